@@ -1,0 +1,28 @@
+# Installs the SDK from the build tree into a scratch _NRD_SDK folder and builds + runs the example
+# consumer against it with find_package(NRD).
+#   cmake -DBUILD_DIR=<build> -DSOURCE_DIR=<repo> -DWORK_DIR=<scratch> -P PackageTest.cmake
+file(REMOVE_RECURSE ${WORK_DIR})
+set(sdk ${WORK_DIR}/_NRD_SDK)
+execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${sdk} RESULT_VARIABLE rc OUTPUT_QUIET)
+if(rc)
+    message(FATAL_ERROR "install failed: ${rc}")
+endif()
+foreach(f include/NRD.h include/NRD.glsl lib/cmake/NRD/NRDConfig.cmake Example/CMakeLists.txt)
+    if(NOT EXISTS ${sdk}/${f})
+        message(FATAL_ERROR "missing ${f} in the package")
+    endif()
+endforeach()
+execute_process(COMMAND ${CMAKE_COMMAND} -S ${sdk}/Example -B ${WORK_DIR}/consumer -DCMAKE_PREFIX_PATH=${sdk}
+                RESULT_VARIABLE rc)
+if(rc)
+    message(FATAL_ERROR "consumer configure failed: ${rc}")
+endif()
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/consumer RESULT_VARIABLE rc)
+if(rc)
+    message(FATAL_ERROR "consumer build failed: ${rc}")
+endif()
+execute_process(COMMAND ${WORK_DIR}/consumer/nrd_consumer RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+message(STATUS "${out}")
+if(rc)
+    message(FATAL_ERROR "consumer run failed: ${rc}")
+endif()
