@@ -118,6 +118,20 @@ bool IsSupportedProjection(const float* p)
 // Creation.
 //==================================================================================================
 
+InstanceImpl::InstanceImpl(const DenoiserCreationDesc& desc)
+    : m_AllocationCallbacks(desc.allocationCallbacks),
+      m_Allocator(desc.allocationCallbacks.Allocate && desc.allocationCallbacks.Free && desc.allocationCallbacks.Reallocate
+                      ? &m_AllocationCallbacks
+                      : nullptr),
+      m_Log(desc.logCallback, desc.logUserArg), m_Methods(StdAllocator<MethodData>(m_Allocator)),
+      m_Pipelines(StdAllocator<PipelineDesc>(m_Allocator)), m_Ranges(StdAllocator<ResourceRangeDesc>(m_Allocator)),
+      m_PipelineRangeFirst(StdAllocator<uint32_t>(m_Allocator)), m_PermanentPool(StdAllocator<TextureDesc>(m_Allocator)),
+      m_TransientPool(StdAllocator<TextureDesc>(m_Allocator)), m_Buffers(StdAllocator<BufferDesc>(m_Allocator)),
+      m_Samplers(StdAllocator<Sampler>(m_Allocator)), m_Templates(StdAllocator<DispatchTemplate>(m_Allocator)),
+      m_Resources(StdAllocator<ResourceDesc>(m_Allocator)), m_Output(StdAllocator<DispatchDesc>(m_Allocator))
+{
+}
+
 Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
 {
     if (!desc.methods || desc.methodsNum == 0)
@@ -158,7 +172,9 @@ Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
     m_Desc.renderHeight = desc.renderHeight;
     m_Samplers = {Sampler::NEAREST_CLAMP, Sampler::LINEAR_CLAMP};
 
-    m_Methods.resize(desc.methodsNum);
+    m_Methods.reserve(desc.methodsNum);
+    for (uint32_t i = 0; i < desc.methodsNum; i++)
+        m_Methods.emplace_back(m_Allocator);
     for (uint32_t i = 0; i < desc.methodsNum; i++)
     {
         MethodData& method = m_Methods[i];
@@ -576,7 +592,7 @@ Result InstanceImpl::GetComputeDispatches(const Identifier* identifiers, uint32_
     }
 
     // Validate everything before touching any state.
-    std::vector<uint32_t> order;
+    Vector<uint32_t> order{StdAllocator<uint32_t>(m_Allocator)};
     if (identifiersNum == 0)
     {
         for (uint32_t i = 0; i < m_Methods.size(); i++)

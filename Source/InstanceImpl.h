@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <memory>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,41 @@ namespace nrd
 {
 
 inline uint32_t DivideUp(uint32_t x, uint32_t y) { return (x + y - 1) / y; }
+
+// Routes container memory through the application's AllocationCallbacks (or operator new).
+template <class T>
+struct StdAllocator
+{
+    using value_type = T;
+    const AllocationCallbacks* callbacks = nullptr;
+
+    StdAllocator() = default;
+    explicit StdAllocator(const AllocationCallbacks* c) : callbacks(c) {}
+    template <class U>
+    StdAllocator(const StdAllocator<U>& other) : callbacks(other.callbacks) {}
+
+    T* allocate(size_t n)
+    {
+        void* p = callbacks ? callbacks->Allocate(callbacks->userArg, n * sizeof(T), alignof(T)) : ::operator new(n * sizeof(T));
+        if (!p)
+            throw std::bad_alloc();
+        return static_cast<T*>(p);
+    }
+    void deallocate(T* p, size_t)
+    {
+        if (callbacks)
+            callbacks->Free(callbacks->userArg, p);
+        else
+            ::operator delete(p);
+    }
+    template <class U>
+    bool operator==(const StdAllocator<U>& o) const { return callbacks == o.callbacks; }
+    template <class U>
+    bool operator!=(const StdAllocator<U>& o) const { return callbacks != o.callbacks; }
+};
+
+template <class T>
+using Vector = std::vector<T, StdAllocator<T>>;
 
 // Routes readable messages to the application's log callback (if any).
 class Logger
@@ -183,7 +219,8 @@ std::unique_ptr<MethodBase> CreateReference(MethodBuilder& builder, Method metho
 class InstanceImpl
 {
 public:
-    explicit InstanceImpl(const DenoiserCreationDesc& desc) : m_Log(desc.logCallback, desc.logUserArg) {}
+    explicit InstanceImpl(const DenoiserCreationDesc& desc);
+    const AllocationCallbacks* Allocator() const { return m_Allocator; }
 
     Result Create(const DenoiserCreationDesc& desc);
     Result SetCommonSettings(const CommonSettings& settings);
@@ -199,14 +236,19 @@ private:
 
     struct MethodData
     {
+        explicit MethodData(const AllocationCallbacks* a)
+            : templates(StdAllocator<uint32_t>(a)), transients(StdAllocator<TextureDesc>(a)),
+              transientRemap(StdAllocator<uint16_t>(a)), dispatches(StdAllocator<DispatchDesc>(a)),
+              constants(StdAllocator<uint8_t>(a)), constantOffsets(StdAllocator<uint32_t>(a)) {}
+
         MethodDesc desc = {};
         std::unique_ptr<MethodBase> impl;
-        std::vector<uint32_t> templates;              // Into m_Templates, local index -> global.
-        std::vector<TextureDesc> transients;           // Local transient textures (before sharing).
-        std::vector<uint16_t> transientRemap;          // Local -> shared transient pool index.
-        std::vector<DispatchDesc> dispatches;          // This frame's part (pointers into below).
-        std::vector<uint8_t> constants;                // This frame's constant bytes.
-        std::vector<uint32_t> constantOffsets;         // Per dispatch, into 'constants'.
+        Vector<uint32_t> templates;          // Into m_Templates, local index -> global.
+        Vector<TextureDesc> transients;      // Local transient textures (before sharing).
+        Vector<uint16_t> transientRemap;     // Local -> shared transient pool index.
+        Vector<DispatchDesc> dispatches;     // This frame's part (pointers into below).
+        Vector<uint8_t> constants;           // This frame's constant bytes.
+        Vector<uint32_t> constantOffsets;    // Per dispatch, into 'constants'.
         uint64_t updatedEpoch = 0;
     };
 
@@ -215,19 +257,21 @@ private:
     void FinalizePools();
     void UpdateMethod(uint32_t methodIndex);
 
+    AllocationCallbacks m_AllocationCallbacks = {};
+    const AllocationCallbacks* m_Allocator = nullptr; // Null: operator new.
     Logger m_Log;
     DenoiserDesc m_Desc = {};
-    std::vector<MethodData> m_Methods;
-    std::vector<PipelineDesc> m_Pipelines;
-    std::vector<ResourceRangeDesc> m_Ranges; // All pipelines' ranges; m_PipelineRangeFirst indexes it.
-    std::vector<uint32_t> m_PipelineRangeFirst;
-    std::vector<TextureDesc> m_PermanentPool;
-    std::vector<TextureDesc> m_TransientPool;
-    std::vector<BufferDesc> m_Buffers;
-    std::vector<Sampler> m_Samplers;
-    std::vector<DispatchTemplate> m_Templates;
-    std::vector<ResourceDesc> m_Resources;
-    std::vector<DispatchDesc> m_Output;
+    Vector<MethodData> m_Methods;
+    Vector<PipelineDesc> m_Pipelines;
+    Vector<ResourceRangeDesc> m_Ranges; // All pipelines' ranges; m_PipelineRangeFirst indexes it.
+    Vector<uint32_t> m_PipelineRangeFirst;
+    Vector<TextureDesc> m_PermanentPool;
+    Vector<TextureDesc> m_TransientPool;
+    Vector<BufferDesc> m_Buffers;
+    Vector<Sampler> m_Samplers;
+    Vector<DispatchTemplate> m_Templates;
+    Vector<ResourceDesc> m_Resources;
+    Vector<DispatchDesc> m_Output;
     FrameData m_Frame = {};
     uint64_t m_Epoch = 0; // Incremented by every successful SetCommonSettings.
     uint32_t m_PrevWidth = 0, m_PrevHeight = 0;

@@ -32,6 +32,39 @@ static_assert(sizeof(kFormatNames) / sizeof(kFormatNames[0]) == size_t(Format::M
 static const uint8_t kFormatBytes[] = {1, 2, 4, 2, 4, 8, 4, 8, 16, 4, 8, 4, 4};
 static_assert(sizeof(kFormatBytes) == size_t(Format::MAX_NUM), "size table");
 
+// The instance itself lives in application memory too when callbacks are given.
+static InstanceImpl* NewInstance(const DenoiserCreationDesc& desc)
+{
+    const AllocationCallbacks& a = desc.allocationCallbacks;
+    bool custom = a.Allocate && a.Free && a.Reallocate;
+    void* memory = custom ? a.Allocate(a.userArg, sizeof(InstanceImpl), alignof(InstanceImpl))
+                          : ::operator new(sizeof(InstanceImpl), std::nothrow);
+    if (!memory)
+        return nullptr;
+    try
+    {
+        return new (memory) InstanceImpl(desc);
+    }
+    catch (...)
+    {
+        custom ? a.Free(a.userArg, memory) : ::operator delete(memory);
+        return nullptr;
+    }
+}
+
+static void DeleteInstance(InstanceImpl* instance)
+{
+    if (!instance)
+        return;
+    const AllocationCallbacks* a = instance->Allocator();
+    AllocationCallbacks callbacks = a ? *a : AllocationCallbacks{};
+    instance->~InstanceImpl();
+    if (a)
+        callbacks.Free(callbacks.userArg, instance);
+    else
+        ::operator delete(instance);
+}
+
 const LibraryDesc& GetLibraryDesc()
 {
     static const LibraryDesc desc = [] {
@@ -52,17 +85,19 @@ Result CreateDenoiser(const DenoiserCreationDesc& desc, Denoiser*& outDenoiser)
     InstanceImpl* instance = nullptr;
     try
     {
-        instance = new InstanceImpl(desc);
+        instance = NewInstance(desc);
+        if (!instance)
+            return Result::FAILURE;
         Result result = instance->Create(desc);
         if (result != Result::SUCCESS)
         {
-            delete instance;
+            DeleteInstance(instance);
             return result;
         }
     }
     catch (...)
     {
-        delete instance;
+        DeleteInstance(instance);
         return Result::FAILURE;
     }
     outDenoiser = reinterpret_cast<Denoiser*>(instance);
@@ -126,7 +161,7 @@ Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, u
 
 void DestroyDenoiser(Denoiser* denoiser)
 {
-    delete reinterpret_cast<InstanceImpl*>(denoiser);
+    DeleteInstance(reinterpret_cast<InstanceImpl*>(denoiser));
 }
 
 const char* GetResultString(Result result)

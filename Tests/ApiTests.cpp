@@ -470,3 +470,44 @@ TEST_CASE("Invalid method settings and identifiers are rejected", "[api]")
     for (uint32_t i = 0; i < num; i++)
         CHECK(dispatches[i].identifier == 2u);
 }
+
+TEST_CASE("Allocation callbacks receive every allocation of the instance", "[api]")
+{
+    struct Counter
+    {
+        int live = 0;
+        int total = 0;
+    } counter;
+    nrd::DenoiserCreationDesc desc;
+    nrd::MethodDesc m[] = {{1, nrd::Method::REFERENCE}, {2, nrd::Method::REFERENCE}};
+    desc.methods = m;
+    desc.methodsNum = 2;
+    desc.renderWidth = desc.renderHeight = 16;
+    desc.allocationCallbacks.userArg = &counter;
+    desc.allocationCallbacks.Allocate = [](void* user, size_t size, size_t alignment) -> void* {
+        auto* c = static_cast<Counter*>(user);
+        c->live++;
+        c->total++;
+        return aligned_alloc(alignment < sizeof(void*) ? sizeof(void*) : alignment,
+                             (size + alignment - 1) / alignment * alignment);
+    };
+    desc.allocationCallbacks.Reallocate = [](void*, void*, size_t, size_t) -> void* { return nullptr; };
+    desc.allocationCallbacks.Free = [](void* user, void* memory) {
+        if (memory)
+            static_cast<Counter*>(user)->live--;
+        free(memory);
+    };
+    nrd::Denoiser* d = nullptr;
+    REQUIRE(nrd::CreateDenoiser(desc, d) == nrd::Result::SUCCESS);
+    nrd::CommonSettings s;
+    FillCamera(s);
+    REQUIRE(nrd::SetCommonSettings(*d, s) == nrd::Result::SUCCESS);
+    const nrd::DispatchDesc* dispatches = nullptr;
+    uint32_t num = 0;
+    REQUIRE(nrd::GetComputeDispatches(*d, nullptr, 0, dispatches, num) == nrd::Result::SUCCESS);
+    CHECK(num == 2);
+    CHECK(counter.total > 5);
+    CHECK(counter.live > 0);
+    nrd::DestroyDenoiser(d);
+    CHECK(counter.live == 0);
+}
