@@ -1,0 +1,120 @@
+// Helpers for Vulkan tests (label "vulkan"): a validated context, random images, camera settings,
+// and "run one Denoise with these textures and wait". Header-only; include after catch2.
+#pragma once
+
+#include "NRDIntegration.h"
+#include "VulkanContext.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <random>
+#include <utility>
+#include <vector>
+
+namespace nrd
+{
+namespace test
+{
+
+// A context with VK_LAYER_KHRONOS_validation (+ synchronization validation) on the default device
+// (lavapipe where there is no GPU). Tests end with CHECK(context->ValidationMessageCount() == 0).
+inline std::unique_ptr<lab::VulkanContext> CreateValidatedContext()
+{
+    lab::VulkanContextDesc desc = {};
+    desc.enableValidation = true;
+    desc.enableSynchronizationValidation = true;
+    desc.applicationName = "NRD tests";
+    desc.quiet = true;
+    std::unique_ptr<lab::VulkanContext> context(new lab::VulkanContext());
+    if (context->Create(desc) != VK_SUCCESS)
+        return nullptr;
+    return context;
+}
+
+// 'num' uniform random floats in [lo, hi), deterministic for a seed.
+inline std::vector<float> RandomFloats(size_t num, uint32_t seed, float lo = 0.0f, float hi = 1.0f)
+{
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> distribution(lo, hi);
+    std::vector<float> values(num);
+    for (float& v : values)
+        v = distribution(rng);
+    return values;
+}
+
+// 'pixels' as the GPU sees them after a round trip through 'format' (e.g. fp16 rounding).
+inline std::vector<float> Quantize(rhi::Format format, const std::vector<float>& pixels)
+{
+    uint32_t channels = rhi::GetFormatInfo(format).channelNum;
+    size_t pixelsNum = pixels.size() / channels;
+    std::vector<uint8_t> bytes(pixelsNum * rhi::GetFormatBytesPerPixel(format));
+    std::vector<float> result(pixels.size());
+    lab::PackPixels(format, pixels.data(), pixelsNum, bytes.data());
+    lab::UnpackPixels(format, bytes.data(), pixelsNum, result.data());
+    return result;
+}
+
+// Number of values where |actual - expected| > absTolerance + relTolerance * |expected| (or
+// either is non-finite); prints the first few.
+inline size_t CountMismatches(const std::vector<float>& actual, const std::vector<float>& expected,
+                              float absTolerance, float relTolerance)
+{
+    if (actual.size() != expected.size())
+        return actual.size() > expected.size() ? actual.size() : expected.size();
+    size_t mismatches = 0;
+    for (size_t i = 0; i < actual.size(); i++)
+    {
+        float difference = std::fabs(actual[i] - expected[i]);
+        bool ok = std::isfinite(actual[i]) && difference <= absTolerance + relTolerance * std::fabs(expected[i]);
+        if (!ok && mismatches++ < 5)
+            std::printf("  value %zu: got %.7g, expected %.7g\n", i, actual[i], expected[i]);
+    }
+    return mismatches;
+}
+
+// A still camera: identity view, a perspective projection with clip w = +viewZ.
+inline CommonSettings StillCameraSettings(uint32_t frameIndex, uint16_t width = 0, uint16_t height = 0)
+{
+    CommonSettings settings = {};
+    float projection[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 1, 0, 0, 0.1f, 0}; // Column-major.
+    float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    for (int i = 0; i < 16; i++)
+    {
+        settings.viewToClipMatrix[i] = settings.viewToClipMatrixPrev[i] = projection[i];
+        settings.worldToViewMatrix[i] = settings.worldToViewMatrixPrev[i] = identity[i];
+    }
+    settings.frameIndex = frameIndex;
+    settings.resourceSize[0] = width;
+    settings.resourceSize[1] = height;
+    return settings;
+}
+
+// The application textures of one Denoise call.
+typedef std::vector<std::pair<ResourceType, lab::LabTexture*>> Bindings;
+
+// Records Denoise for 'identifiers' (all methods if empty) with 'textures' into a one-shot
+// command buffer, submits it and waits; the textures' states follow what Denoise left them in.
+inline VkResult DenoiseAndWait(lab::VulkanContext& context, Integration& integration, const Bindings& textures,
+                               const std::vector<Identifier>& identifiers = {})
+{
+    UserPool pool = {};
+    for (const auto& binding : textures)
+        pool[binding.first] = binding.second->AsUserTexture();
+
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    VkResult result = context.BeginCommands(commandBuffer);
+    if (result != VK_SUCCESS)
+        return result;
+    result = integration.Denoise(commandBuffer, identifiers.data(), (uint32_t)identifiers.size(), pool);
+    VkResult submitted = context.SubmitAndWait(commandBuffer);
+    if (result != VK_SUCCESS)
+        return result;
+    for (const auto& binding : textures)
+        binding.second->FromUserTexture(pool[binding.first]);
+    return submitted;
+}
+
+} // namespace test
+} // namespace nrd
