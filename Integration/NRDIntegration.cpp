@@ -134,6 +134,11 @@ VkResult Integration::CreatePipelines()
 {
     const DenoiserDesc& denoiserDesc = nrd::GetDenoiserDesc(*m_Denoiser);
     const SpirvBindingDesc& binding = GetLibraryDesc().spirvBinding;
+    if (binding.resourcesSetIndex > 1 || binding.constantsSetIndex > 1 || binding.resourcesSetIndex == binding.constantsSetIndex)
+    {
+        Log("Integration: the library's binding model (sets other than 0 and 1) is not supported");
+        return VK_ERROR_INITIALIZATION_FAILED;
+    }
 
     // Static samplers: clamp-to-edge, nearest or linear.
     for (uint32_t i = 0; i < denoiserDesc.samplersNum; i++)
@@ -290,6 +295,8 @@ void Integration::Destroy()
 
 Result Integration::SetCommonSettings(const CommonSettings& settings)
 {
+    if (!m_Denoiser)
+        return Result::INVALID_ARGUMENT;
     return nrd::SetCommonSettings(*m_Denoiser, settings);
 }
 
@@ -347,6 +354,17 @@ VkResult Integration::PrepareSlot(FrameSlot& slot, const DispatchDesc* dispatche
     const DenoiserDesc& denoiserDesc = nrd::GetDenoiserDesc(*m_Denoiser);
     const rhi::DeviceDesc& deviceDesc = m_Device->GetDesc();
 
+    // Start from the core's per-frame estimate (one resources set and one constants set per
+    // dispatch), then make sure this call's actual dispatches fit.
+    const DescriptorPoolDesc& estimate = denoiserDesc.descriptorPoolDesc;
+    rhi::DescriptorPoolDesc fromCore = {};
+    fromCore.setsMaxNum = estimate.setsMaxNum * 2;
+    fromCore.descriptorsMaxNum[(size_t)rhi::DescriptorType::SAMPLED_TEXTURE] = estimate.texturesMaxNum;
+    fromCore.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_TEXTURE] = estimate.storageTexturesMaxNum;
+    fromCore.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_BUFFER] = estimate.buffersMaxNum;
+    fromCore.descriptorsMaxNum[(size_t)rhi::DescriptorType::UNIFORM_BUFFER] = estimate.constantBuffersMaxNum;
+    fromCore.descriptorsMaxNum[(size_t)rhi::DescriptorType::SAMPLER] = estimate.samplersMaxNum;
+
     rhi::DescriptorPoolDesc needed = {};
     uint64_t constantsSize = 0;
     for (uint32_t d = 0; d < dispatchesNum; d++)
@@ -373,8 +391,11 @@ VkResult Integration::PrepareSlot(FrameSlot& slot, const DispatchDesc* dispatche
         m_Device->DestroyDescriptorPool(slot.descriptorPool);
         slot.descriptorPool = nullptr;
         for (uint32_t t = 0; t < (uint32_t)rhi::DescriptorType::MAX_NUM; t++)
-            needed.descriptorsMaxNum[t] = std::max(needed.descriptorsMaxNum[t], slot.descriptorCapacity.descriptorsMaxNum[t]);
-        needed.setsMaxNum = std::max(std::max(needed.setsMaxNum, slot.descriptorCapacity.setsMaxNum), 2u);
+        {
+            needed.descriptorsMaxNum[t] = std::max({needed.descriptorsMaxNum[t], fromCore.descriptorsMaxNum[t],
+                                                    slot.descriptorCapacity.descriptorsMaxNum[t]});
+        }
+        needed.setsMaxNum = std::max({needed.setsMaxNum, fromCore.setsMaxNum, slot.descriptorCapacity.setsMaxNum, 2u});
         slot.descriptorCapacity = needed;
         rhi::Result result = m_Device->CreateDescriptorPool(needed, slot.descriptorPool);
         if (result != rhi::Result::SUCCESS)

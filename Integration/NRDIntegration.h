@@ -107,6 +107,8 @@ public:
     // Accepted settings are kept and applied again after Resize.
     template <typename T> Result SetMethodSettings(Identifier identifier, const T& settings)
     {
+        if (!m_Denoiser)
+            return Result::INVALID_ARGUMENT;
         Result result = nrd::SetMethodSettings(*m_Denoiser, identifier, settings);
         if (result == Result::SUCCESS)
             RememberMethodSettings(identifier, [settings](Denoiser& d, Identifier id) { return nrd::SetMethodSettings(d, id, settings); });
@@ -118,7 +120,8 @@ public:
     // Pool textures and buffers are synchronized against earlier Denoise calls, assuming command
     // buffers execute in the order they were recorded. On return 'userPool' holds the final
     // layouts. Returns VK_ERROR_INITIALIZATION_FAILED (and records nothing) if the core fails or a
-    // referenced user texture is missing or in an unsupported layout.
+    // referenced user texture is missing or in an unsupported layout; the core has then still
+    // consumed this frame's settings (call SetCommonSettings again).
     VkResult Denoise(VkCommandBuffer commandBuffer, const Identifier* identifiers, uint32_t identifiersNum,
                      UserPool& userPool);
 

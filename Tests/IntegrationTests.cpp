@@ -5,11 +5,20 @@
 
 #include "VulkanTestUtils.h"
 
+#include "RHIVulkan.h"
+
+#include <cstdint>
 #include <cstring>
 #include <string>
 
 using namespace nrd;
 using nrd::test::Bindings;
+
+namespace
+{
+#include "RhiTestArgs.h"
+#include "RhiTestFill.h"
+} // namespace
 
 namespace
 {
@@ -378,6 +387,154 @@ TEST_CASE("Pixel conversions round-trip through every uploadable format", "[vulk
         REQUIRE(context->ReadbackTexture(texture, readback) == VK_SUCCESS);
         CHECK(test::CountMismatches(readback, expected, 0.0f, 0.0f) == 0);
         context->DestroyTexture(texture);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("Rhi runs pipelines with storage buffers, push constants and indirect dispatch", "[vulkan]")
+{
+    // A pass writes indirect arguments (3 x 2 groups of 8x8); a second pass, dispatched
+    // indirectly, fills that corner of a cleared storage image from a buffer and a uniform block.
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    {
+        rhi::Device& device = context->GetDevice();
+        const uint32_t w = 40, h = 24, groupsX = 3, groupsY = 2;
+
+        lab::LabTexture image;
+        REQUIRE(context->CreateTexture(RGBA32F, w, h, "rhi test image", image) == VK_SUCCESS);
+        rhi::Buffer* values = nullptr;
+        rhi::Buffer* constants = nullptr;
+        rhi::Buffer* args = nullptr;
+        rhi::BufferDesc desc = {};
+        desc.size = w * h * sizeof(float);
+        desc.usage = rhi::BUFFER_USAGE_STORAGE;
+        desc.location = rhi::MemoryLocation::HOST_UPLOAD;
+        REQUIRE(device.CreateBuffer(desc, values) == rhi::Result::SUCCESS);
+        desc = {256, rhi::BUFFER_USAGE_UNIFORM, rhi::MemoryLocation::HOST_UPLOAD, "constants"};
+        REQUIRE(device.CreateBuffer(desc, constants) == rhi::Result::SUCCESS);
+        desc = {16, rhi::BUFFER_USAGE_STORAGE | rhi::BUFFER_USAGE_INDIRECT_ARGUMENTS, rhi::MemoryLocation::DEVICE, "args"};
+        REQUIRE(device.CreateBuffer(desc, args) == rhi::Result::SUCCESS);
+        std::vector<float> data = test::RandomFloats(w * h, 1500);
+        std::memcpy(device.MapBuffer(*values), data.data(), data.size() * sizeof(float));
+        const float scale[4] = {2.5f, 0.0f, 0.0f, 0.0f};
+        std::memcpy(device.MapBuffer(*constants), scale, sizeof(scale));
+
+        rhi::DescriptorBindingDesc argsBindings[] = {{0, rhi::DescriptorType::STORAGE_BUFFER, 1, nullptr}};
+        rhi::DescriptorSetDesc argsSets[] = {{argsBindings, 1}};
+        rhi::ComputePipelineDesc pipelineDesc = {};
+        pipelineDesc.spirv = g_RhiTestArgs;
+        pipelineDesc.spirvSize = sizeof(g_RhiTestArgs);
+        pipelineDesc.sets = argsSets;
+        pipelineDesc.setsNum = 1;
+        pipelineDesc.pushConstantsSize = 8;
+        pipelineDesc.name = "RhiTestArgs";
+        rhi::Pipeline* argsPipeline = nullptr;
+        REQUIRE(device.CreateComputePipeline(pipelineDesc, argsPipeline) == rhi::Result::SUCCESS);
+
+        rhi::DescriptorBindingDesc fillBindings0[] = {{0, rhi::DescriptorType::STORAGE_TEXTURE, 1, nullptr},
+                                                      {1, rhi::DescriptorType::BUFFER, 1, nullptr}};
+        rhi::DescriptorBindingDesc fillBindings1[] = {{0, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr}};
+        rhi::DescriptorSetDesc fillSets[] = {{fillBindings0, 2}, {fillBindings1, 1}};
+        pipelineDesc.spirv = g_RhiTestFill;
+        pipelineDesc.spirvSize = sizeof(g_RhiTestFill);
+        pipelineDesc.sets = fillSets;
+        pipelineDesc.setsNum = 2;
+        pipelineDesc.name = "RhiTestFill";
+        rhi::Pipeline* fillPipeline = nullptr;
+        REQUIRE(device.CreateComputePipeline(pipelineDesc, fillPipeline) == rhi::Result::SUCCESS);
+
+        rhi::DescriptorPoolDesc poolDesc = {};
+        poolDesc.setsMaxNum = 3;
+        poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_BUFFER] = 1;
+        poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::BUFFER] = 1;
+        poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_TEXTURE] = 1;
+        poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::UNIFORM_BUFFER] = 1;
+        rhi::DescriptorPool* pool = nullptr;
+        REQUIRE(device.CreateDescriptorPool(poolDesc, pool) == rhi::Result::SUCCESS);
+        rhi::DescriptorSet* argsSet = nullptr;
+        rhi::DescriptorSet* fillSet0 = nullptr;
+        rhi::DescriptorSet* fillSet1 = nullptr;
+        REQUIRE(device.AllocateDescriptorSet(*pool, *argsPipeline, 0, argsSet) == rhi::Result::SUCCESS);
+        REQUIRE(device.AllocateDescriptorSet(*pool, *fillPipeline, 0, fillSet0) == rhi::Result::SUCCESS);
+        REQUIRE(device.AllocateDescriptorSet(*pool, *fillPipeline, 1, fillSet1) == rhi::Result::SUCCESS);
+        rhi::DescriptorSet* overflow = nullptr;
+        CHECK(device.AllocateDescriptorSet(*pool, *argsPipeline, 0, overflow) == rhi::Result::OUT_OF_MEMORY);
+
+        rhi::DescriptorWrite argsWrite = {};
+        argsWrite.type = rhi::DescriptorType::STORAGE_BUFFER;
+        argsWrite.buffer = args;
+        device.UpdateDescriptorSet(*argsSet, &argsWrite, 1);
+        rhi::DescriptorWrite fillWrites[2] = {};
+        fillWrites[0].type = rhi::DescriptorType::STORAGE_TEXTURE;
+        fillWrites[0].texture = image.texture;
+        fillWrites[1].binding = 1;
+        fillWrites[1].type = rhi::DescriptorType::BUFFER;
+        fillWrites[1].buffer = values;
+        device.UpdateDescriptorSet(*fillSet0, fillWrites, 2);
+        rhi::DescriptorWrite constantsWrite = {};
+        constantsWrite.type = rhi::DescriptorType::UNIFORM_BUFFER;
+        constantsWrite.buffer = constants;
+        constantsWrite.range = 16;
+        device.UpdateDescriptorSet(*fillSet1, &constantsWrite, 1);
+
+        VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+        REQUIRE(context->BeginCommands(commandBuffer) == VK_SUCCESS);
+        rhi::CommandBuffer& cmd = rhi::GetCommandBuffer(commandBuffer);
+
+        // Layout transition for the clear (first use).
+        rhi::TextureState clearState = {rhi::ACCESS_COPY_DESTINATION, rhi::Layout::COPY_DESTINATION};
+        rhi::TextureBarrier toClear = {image.texture, image.state, clearState};
+        device.CmdBarrier(cmd, {nullptr, 0, nullptr, 0, &toClear, 1});
+        const float minusOne[4] = {-1.0f, -1.0f, -1.0f, -1.0f};
+        device.CmdClearTexture(cmd, *image.texture, rhi::Layout::COPY_DESTINATION, minusOne);
+
+        const uint32_t groups[2] = {groupsX, groupsY};
+        device.CmdBindPipeline(cmd, *argsPipeline);
+        device.CmdBindDescriptorSet(cmd, *argsPipeline, 0, *argsSet);
+        device.CmdPushConstants(cmd, *argsPipeline, groups, sizeof(groups));
+        device.CmdDispatch(cmd, 1, 1, 1);
+
+        // RAW: the indirect read waits for the argument writes; RAW: the fill waits for the clear.
+        rhi::BufferBarrier argsBarrier = {args, rhi::ACCESS_SHADER_READ_WRITE, rhi::ACCESS_INDIRECT_ARGUMENTS};
+        rhi::TextureBarrier toStorage = {image.texture, clearState, {rhi::ACCESS_SHADER_READ_WRITE, rhi::Layout::GENERAL}};
+        device.CmdBarrier(cmd, {nullptr, 0, &argsBarrier, 1, &toStorage, 1});
+        image.state = toStorage.after;
+
+        const uint32_t size[2] = {w, h};
+        device.CmdBindPipeline(cmd, *fillPipeline);
+        device.CmdBindDescriptorSet(cmd, *fillPipeline, 0, *fillSet0);
+        device.CmdBindDescriptorSet(cmd, *fillPipeline, 1, *fillSet1);
+        device.CmdPushConstants(cmd, *fillPipeline, size, sizeof(size));
+        device.CmdDispatchIndirect(cmd, *args, 0);
+        REQUIRE(context->SubmitAndWait(commandBuffer) == VK_SUCCESS);
+
+        std::vector<float> pixels;
+        REQUIRE(context->ReadbackTexture(image, pixels) == VK_SUCCESS);
+        std::vector<float> expected(w * h * 4, -1.0f);
+        for (uint32_t y = 0; y < groupsY * 8; y++)
+        {
+            for (uint32_t x = 0; x < groupsX * 8; x++)
+            {
+                float* p = &expected[(y * w + x) * 4];
+                p[0] = (float)x;
+                p[1] = (float)y;
+                p[2] = data[y * w + x];
+                p[3] = 2.5f;
+            }
+        }
+        CHECK(test::CountMismatches(pixels, expected, 0.0f, 0.0f) == 0);
+
+        REQUIRE(device.ResetDescriptorPool(*pool) == rhi::Result::SUCCESS);
+        REQUIRE(device.AllocateDescriptorSet(*pool, *argsPipeline, 0, argsSet) == rhi::Result::SUCCESS);
+
+        device.DestroyDescriptorPool(pool);
+        device.DestroyPipeline(argsPipeline);
+        device.DestroyPipeline(fillPipeline);
+        device.DestroyBuffer(values);
+        device.DestroyBuffer(constants);
+        device.DestroyBuffer(args);
+        context->DestroyTexture(image);
     }
     CHECK(context->ValidationMessageCount() == 0);
 }
