@@ -62,7 +62,7 @@ NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, cons
 // then be null). Each method's part of the frame is produced once per SetCommonSettings call.
 // '*outDispatches' and everything it points to (resources, constants, names) belong to the
 // denoiser and stay valid until the next GetComputeDispatches / SetCommonSettings / Destroy call.
-// Returns INVALID_ARGUMENT for an unknown identifier or if SetCommonSettings never succeeded.
+// Returns INVALID_ARGUMENT for an unknown or repeated identifier or if SetCommonSettings never succeeded.
 NRD_API Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,
                                     const DispatchDesc*& outDispatches, uint32_t& outDispatchesNum);
 

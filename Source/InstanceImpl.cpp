@@ -609,6 +609,13 @@ Result InstanceImpl::GetComputeDispatches(const Identifier* identifiers, uint32_
             m_Log.Error("GetComputeDispatches: unknown identifier %u", identifiers[k]);
             return Result::INVALID_ARGUMENT;
         }
+        // A repeat would run the method twice in one frame (and overflow the descriptor pool sizes).
+        for (uint32_t previous : order)
+            if (previous == found)
+            {
+                m_Log.Error("GetComputeDispatches: identifier %u is listed twice", identifiers[k]);
+                return Result::INVALID_ARGUMENT;
+            }
         order.push_back(found);
     }
 

@@ -511,3 +511,26 @@ TEST_CASE("Allocation callbacks receive every allocation of the instance", "[api
     nrd::DestroyDenoiser(d);
     CHECK(counter.live == 0);
 }
+
+// Found by Tests/Fuzz/FuzzCore.cpp: a repeated identifier used to return the method's dispatches
+// twice (the method would run twice in one frame, beyond the published descriptor pool sizes).
+TEST_CASE("A repeated identifier in GetComputeDispatches is rejected", "[api]")
+{
+    Instance inst({{1, nrd::Method::REFERENCE}, {2, nrd::Method::REFERENCE}}, 16, 16);
+    REQUIRE(inst.result == nrd::Result::SUCCESS);
+    nrd::CommonSettings s;
+    FillCamera(s);
+    REQUIRE(nrd::SetCommonSettings(*inst.denoiser, s) == nrd::Result::SUCCESS);
+    const nrd::DispatchDesc* dispatches = nullptr;
+    uint32_t num = 0;
+    nrd::Identifier repeated[] = {2, 1, 2};
+    size_t before = inst.log.messages.size();
+    CHECK(nrd::GetComputeDispatches(*inst.denoiser, repeated, 3, dispatches, num) == nrd::Result::INVALID_ARGUMENT);
+    CHECK(num == 0);
+    CHECK(inst.log.messages.size() == before + 1);
+    nrd::Identifier both[] = {2, 1};
+    REQUIRE(nrd::GetComputeDispatches(*inst.denoiser, both, 2, dispatches, num) == nrd::Result::SUCCESS);
+    REQUIRE(num == 2);
+    CHECK(dispatches[0].identifier == 2u);
+    CHECK(dispatches[1].identifier == 1u);
+}
