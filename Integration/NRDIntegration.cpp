@@ -683,6 +683,26 @@ std::vector<DispatchTiming> Integration::GetLastTimings(double* outTotalMillisec
     return timings;
 }
 
+Integration::PoolImage Integration::GetPoolImage(ResourceType type, uint32_t index) const
+{
+    PoolImage image = {};
+    const std::vector<TrackedTexture>* pool = type == ResourceType::PERMANENT_POOL   ? &m_PermanentPool
+                                              : type == ResourceType::TRANSIENT_POOL ? &m_TransientPool
+                                                                                     : nullptr;
+    if (!m_Device || !pool || index >= pool->size())
+        return image;
+    const TrackedTexture& tracked = (*pool)[index];
+    const rhi::TextureDesc& desc = m_Device->GetTextureDesc(*tracked.texture);
+    image.image = rhi::GetVkImage(*tracked.texture);
+    image.format = rhi::ToVkFormat(desc.format);
+    image.layout = rhi::ToVkImageLayout(tracked.state.layout);
+    image.width = desc.width;
+    image.height = desc.height;
+    image.texture = tracked.texture;
+    image.state = tracked.state;
+    return image;
+}
+
 MemoryReport Integration::GetMemoryReport() const
 {
     MemoryReport report = {};

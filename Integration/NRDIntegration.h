@@ -139,6 +139,21 @@ public:
 
     MemoryReport GetMemoryReport() const;
 
+    // (Tests, debugging) A pool texture as the last recorded Denoise left it, for reading back.
+    struct PoolImage
+    {
+        VkImage image = VK_NULL_HANDLE; // Null if 'type' / 'index' name no pool texture.
+        VkFormat format = VK_FORMAT_UNDEFINED;
+        VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED; // UNDEFINED: never written yet.
+        uint32_t width = 0;
+        uint32_t height = 0;
+        rhi::Texture* texture = nullptr; // The same image through nrd::rhi.
+        rhi::TextureState state = {};    // 'layout' and the last access, in recording order.
+    };
+    // 'type' is PERMANENT_POOL or TRANSIENT_POOL, 'index' indexes that DenoiserDesc pool. Read-only:
+    // whoever copies from it records a barrier back to 'state' before the next Denoise.
+    PoolImage GetPoolImage(ResourceType type, uint32_t index) const;
+
     // The core description (valid until Resize / Destroy) and the rhi device (for samples).
     const DenoiserDesc& GetDenoiserDesc() const
     {
