@@ -1,0 +1,136 @@
+// LabShared.glsl - the scene lab's GPU data layout, read by the shaders AND by SceneLab.cpp, so the
+// constant block, the scene buffers and the binding numbers cannot drift apart. Only vec4 / uvec4 /
+// mat4 members (same offsets in std140, std430 and C++).
+#ifndef LAB_SHARED_GLSL
+#define LAB_SHARED_GLSL
+
+#ifdef __cplusplus
+namespace nrdlab
+{
+namespace gpu
+{
+struct vec4 { float x, y, z, w; };
+struct uvec4 { uint32_t x, y, z, w; };
+struct mat4 { float m[16]; }; // Column-major, as GLSL.
+#endif
+
+// Primitive types (LabObject.info.x), LightType (LabLight.info.x): same values as the C++ enums.
+#define LAB_PRIM_SPHERE 0
+#define LAB_PRIM_BOX 1
+#define LAB_PRIM_PLANE 2
+#define LAB_PRIM_QUAD 3
+#define LAB_LIGHT_SUN 0
+#define LAB_LIGHT_SPHERE 1
+#define LAB_LIGHT_POINT 2
+
+// Signal bits (LabConstants.gCounts.w): which outputs a pass computes.
+#define LAB_SIGNAL_SHADOW 2
+#define LAB_SIGNAL_TRANSLUCENCY 4
+#define LAB_SIGNAL_DIFFUSE 8
+#define LAB_SIGNAL_SPECULAR 16
+#define LAB_SIGNAL_GRADIENTS 32
+
+// Random number streams: each signal has its own, so the value of one signal does not depend on
+// which other signals are rendered with it.
+#define LAB_STREAM_SHADOW 1
+#define LAB_STREAM_TRANSLUCENCY 2
+#define LAB_STREAM_DIFFUSE 3
+#define LAB_STREAM_SPECULAR 4
+#define LAB_STREAM_STRATUM 5
+
+// viewZ written for sky pixels (> any sane denoisingRange; the denoiser skips them).
+#define LAB_SKY_VIEWZ 1e7
+
+// Workgroup of every per-pixel pass. The primary pass packs 8x4 shadow tiles: two per group.
+#define LAB_GROUP_X 8
+#define LAB_GROUP_Y 8
+
+// Scene size limits (uniform buffer arrays: 128 objects of 128 bytes = 16 KiB, the smallest
+// maxUniformBufferRange Vulkan allows).
+#define LAB_MAX_OBJECTS 128
+#define LAB_MAX_LIGHTS 8
+
+// Set 0 bindings (one set per pipeline; each pass uses a subset).
+#define LAB_BINDING_CONSTANTS 0      // uniform LabConstants
+#define LAB_BINDING_OBJECTS 1        // uniform LabObject[LAB_MAX_OBJECTS]
+#define LAB_BINDING_MATERIALS 2      // uniform LabMaterial[LAB_MAX_OBJECTS]
+#define LAB_BINDING_LIGHTS 3         // uniform LabLight[LAB_MAX_LIGHTS]
+// LabPrimary outputs (rgba32f unless noted)
+#define LAB_BINDING_GBUFFER0 4       // viewZ, mv2d.x, mv2d.y, hit object index (-1 sky)
+#define LAB_BINDING_NORMAL_ROUGHNESS 5 // NRD_FrontEnd_PackNormalAndRoughness
+#define LAB_BINDING_MV3D 6           // posPrev - pos, 0
+#define LAB_BINDING_ALBEDO 7         // diffuse albedo rgb, 0
+#define LAB_BINDING_SPEC_ALBEDO 8    // specular directional albedo rgb (demodulation factor), 0
+#define LAB_BINDING_SHADOW 9         // shadowData.xy (SIGMA_FrontEnd_PackShadow), visibility, distanceToOccluder
+#define LAB_BINDING_TRANSLUCENCY 10  // shadowTranslucency (SIGMA_FrontEnd_MultiLightEnd)
+#define LAB_BINDING_TRANSLUCENCY_DATA 11 // shadowData.xy of MultiLightEnd, 0, 0
+#define LAB_BINDING_DIFFUSE 12       // radiance rgb, hit distance
+#define LAB_BINDING_SPECULAR 13      // radiance rgb, hit distance
+#define LAB_BINDING_HIT_MASK 14      // r32ui, ceil(w / 8) x ceil(h / 4): bit (x % 8) + 8 (y % 4) = lit
+// LabTruth accumulators (rgba32f, read-write)
+#define LAB_BINDING_ACC_SHADOW 15    // sum visibility, sum L*V (rgb) over lights
+#define LAB_BINDING_ACC_TRANSLUCENCY 16 // sum L (rgb), sum mean-over-lights visibility
+#define LAB_BINDING_ACC_DIFFUSE 17   // sum radiance rgb, sum hit distance (hits only)
+#define LAB_BINDING_ACC_SPECULAR 18  // sum radiance rgb, sum hit distance (hits only)
+#define LAB_BINDING_ACC_COUNT 19     // diffuse hits, specular hits, 0, 0
+// LabGradients output (rgba32f), ceil(w / 3) x ceil(h / 3)
+#define LAB_BINDING_GRADIENTS 20     // |dLum| diffuse, max lum diffuse, |dLum| specular, max lum specular
+#define LAB_BINDING_NUM 21
+
+struct LabConstants
+{
+    mat4 gWorldToView;     // This frame (column-major, see Scene.h FrameCamera).
+    mat4 gViewToClip;
+    mat4 gWorldToViewPrev; // Previous frame.
+    mat4 gViewToClipPrev;
+    vec4 gCameraPos;       // xyz world position, w unused.
+    vec4 gCameraPosPrev;
+    vec4 gSkyZenith;       // rgb
+    vec4 gSkyHorizon;
+    vec4 gSkyGround;
+    uvec4 gSize;           // width, height, frame index, seed
+    uvec4 gCounts;         // objects, lights, shadow light index, signal bits
+    uvec4 gOptions;        // bounces (1 or 2), has previous frame (0/1), 0, 0
+};
+
+// Push constants of LabTruth: which samples this dispatch adds.
+struct LabTruthChunk
+{
+    uvec4 gChunk; // first sample index, sample count, 0, 0
+};
+
+// One primitive. World-from-local = rotation | translation, rows in xform[slot * 3 + row]
+// (slot 0: this frame, slot 1: previous frame).
+struct LabObject
+{
+    uvec4 info;     // type, material index, 1 if the transform is the same in both slots, 0
+    vec4 size;      // sphere: radius; box: half extents; quad: half width (x), half depth (z)
+    vec4 xform[6];
+};
+
+struct LabMaterial
+{
+    vec4 albedoRoughness;  // albedo rgb, linear roughness
+    vec4 emissionMetalness; // emission rgb, metalness
+};
+
+// slot 0: this frame, slot 1: previous frame.
+struct LabLight
+{
+    uvec4 info;        // type, enabled (slot 0), enabled (slot 1), 0
+    vec4 posDir[2];    // sun: unit direction towards the light, w = cos(angular radius);
+                       // sphere / point: position, w = radius (0 for point)
+    vec4 intensity[2]; // rgb (0 if disabled), w = tan(angular radius) (sun)
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(LabConstants) == 4 * 64 + 5 * 16 + 3 * 16, "LabConstants layout");
+static_assert(sizeof(LabObject) == 128, "LabObject layout");
+static_assert(sizeof(LabMaterial) == 32, "LabMaterial layout");
+static_assert(sizeof(LabLight) == 80, "LabLight layout");
+static_assert(sizeof(LabObject) * LAB_MAX_OBJECTS <= 16384, "objects must fit the smallest uniform range");
+} // namespace gpu
+} // namespace nrdlab
+#endif
+
+#endif
