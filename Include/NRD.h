@@ -52,10 +52,12 @@ NRD_API const DenoiserDesc& GetDenoiserDesc(const Denoiser& denoiser);
 NRD_API Result SetCommonSettings(Denoiser& denoiser, const CommonSettings& settings);
 
 // Per-method settings. The type must match the method family of 'identifier' (SigmaSettings for
-// SIGMA_*, ReferenceSettings for REFERENCE, ...); otherwise INVALID_ARGUMENT. Out-of-range values
-// return INVALID_ARGUMENT and keep the previous settings. Unknown identifier: INVALID_ARGUMENT.
+// SIGMA_*, ReferenceSettings for REFERENCE, TiledShadowSettings for TILED_SHADOW); otherwise
+// INVALID_ARGUMENT. Out-of-range values return INVALID_ARGUMENT and keep the previous settings.
+// Unknown identifier: INVALID_ARGUMENT.
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const SigmaSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReferenceSettings& settings);
+NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const TiledShadowSettings& settings);
 
 // Produces the dispatches of one frame, in execution order, for the methods listed in
 // 'identifiers' (or for all methods, in creation order, if 'identifiersNum' is 0; 'identifiers' may

@@ -41,6 +41,13 @@ enum class Method : uint32_t
     // Plain accumulation of IN_RADIANCE into OUT_RADIANCE (ground truth for a still camera).
     REFERENCE,
 
+    // Shadow from one light traced at 1 ray per pixel, tile-classified (document 000):
+    // IN_SHADOW_VISIBILITY (or IN_SHADOW_BITMASK, see TiledShadowSettings::isBitmaskInput),
+    // IN_VIEWZ, IN_NORMAL_ROUGHNESS, IN_MV -> OUT_SHADOW_TRANSLUCENCY (.x = denoised visibility).
+    // 8x4-pixel bitmask tiles, 17x17 local moments, reprojection with neighbourhood clamping, three
+    // edge-avoiding a-trous passes; tiles without spatial variance are skipped.
+    TILED_SHADOW,
+
     MAX_NUM
 };
 
@@ -111,8 +118,19 @@ enum class ResourceType : uint32_t
     // [RGBA16f+ or RGBA32f] REFERENCE input: any linear signal, all four channels accumulated.
     IN_RADIANCE,
 
+    // [R8+] TILED_SHADOW input: 1-spp shadow visibility, 1 = lit, 0 = shadowed (values >= 0.5 and
+    // NaN count as lit). Read by the prepare pass only.
+    IN_SHADOW_VISIBILITY,
+
+    // [R32_UINT] TILED_SHADOW input written directly by the application's ray pass instead of
+    // IN_SHADOW_VISIBILITY (TiledShadowSettings::isBitmaskInput): DivideUp(width, 8) x
+    // DivideUp(height, 4) texels, texel (x / 8, y / 4) has bit (x % 8) + 8 * (y % 4) set when pixel
+    // (x, y) is lit. Bits of pixels outside the image are ignored (write them as lit).
+    IN_SHADOW_BITMASK,
+
     // [R8+ for SIGMA_SHADOW, RGBA8+ for SIGMA_SHADOW_TRANSLUCENCY] Denoised shadow; decode with
-    // SIGMA_BackEnd_UnpackShadow.
+    // SIGMA_BackEnd_UnpackShadow. TILED_SHADOW writes the denoised visibility in [0, 1] to every
+    // channel (read .x); sky pixels are not written.
     OUT_SHADOW_TRANSLUCENCY,
 
     // [RGBA16f+ or RGBA32f] REFERENCE output: running mean of IN_RADIANCE.

@@ -84,4 +84,78 @@ struct ReferenceSettings
 
 constexpr uint32_t REFERENCE_MAX_HISTORY_FRAME_NUM = 65535;
 
+// What TILED_SHADOW writes to OUT_SHADOW_TRANSLUCENCY (all channels). Anything but NONE is a
+// debugging view: the filter passes are not dispatched and every pixel is written, sky included.
+enum class TiledShadowDebug : uint8_t
+{
+    NONE,              // The denoised visibility.
+    LOCAL_MEAN,        // Gaussian-weighted mean of the bitmask over the (2 * neighborhoodRadius + 1)^2
+                       // neighbourhood, pixels outside the image excluded (document 000, "local
+                       // neighborhood encoding"). Its variance is LOCAL_MEAN * (1 - LOCAL_MEAN).
+    TEMPORAL_VARIANCE, // Variance handed to the first filter pass (temporal, boosted on short history).
+    HISTORY_LENGTH,    // Accumulated samples / TILED_SHADOW_MAX_HISTORY_FRAME_NUM, in [0, 1].
+    TILE_CLASS,        // Class of the pixel's 8x4 tile: 0 filtered, 0.25 skipped (lit neighbourhood),
+                       // 0.5 skipped (shadowed neighbourhood), 0.75 skipped (sky only).
+    MAX_NUM
+};
+
+// TILED_SHADOW.
+//
+// Tile classification: a tile is skipped (written as fully lit or fully shadowed, never filtered)
+// when every in-image bit of the 3x5 tiles around it (the tile, one tile left and right, two tiles
+// up and down: everything its pixels' neighbourhoods and the a-trous passes reach) is equal. A tile
+// whose pixels are all sky is skipped too. Per frame counts are kept in the method's buffer (see
+// TILED_SHADOW_COUNTERS_* below) and shown by TiledShadowDebug::TILE_CLASS.
+struct TiledShadowSettings
+{
+    // The application writes IN_SHADOW_BITMASK itself (the prepare pass is skipped) instead of
+    // IN_SHADOW_VISIBILITY.
+    bool isBitmaskInput = false;
+
+    // Skip tiles without spatial variance. Off: every tile is filtered (for comparisons).
+    bool enableTileSkipping = true;
+
+    // Radius of the local neighbourhood (mean and variance for the history clamp), [1, 8]; 8 is the
+    // 17x17 kernel of the document. Weights exp(-3 i^2 / (radius + 1)^2) along each axis.
+    uint32_t neighborhoodRadius = 8;
+
+    // History clamp: the reprojected history is clamped to mean +- historyClampSigma * sigma of the
+    // local neighbourhood, (0, 8].
+    float historyClampSigma = 0.5f;
+
+    // Disocclusion: relative depth tolerance at grazing angles, [CommonSettings::disocclusionThreshold,
+    // 1]. The tolerance is lerp(disocclusionThreshold, this, (1 - V.N)^8).
+    float disocclusionThresholdGrazing = 0.1f;
+
+    // A-trous edge stopping: distance of a sample to the centre's tangent plane, relative to viewZ,
+    // that drops its weight by 1/e, (0, 1].
+    float planeDistanceSensitivity = 0.02f;
+
+    // A-trous edge stopping: exponent of max(0, N.N'), [0, 128].
+    float normalPower = 32.0f;
+
+    // Edge-avoiding a-trous passes (steps 1, 2, 4), [1, 3].
+    uint32_t atrousPassNum = 3;
+
+    // Longest history in frames, [1, TILED_SHADOW_MAX_HISTORY_FRAME_NUM]. The blend toward the
+    // current frame is lerp(0.05, 1, sqrt(max(8 - n, 0) / 8)) for n accumulated frames, and the
+    // variance is boosted while n < 16, so values below 16 keep the spatial filter stronger.
+    uint32_t maxHistoryFrameNum = 32;
+
+    TiledShadowDebug debugView = TiledShadowDebug::NONE;
+};
+
+constexpr uint32_t TILED_SHADOW_MAX_HISTORY_FRAME_NUM = 63;
+constexpr uint32_t TILED_SHADOW_MAX_NEIGHBORHOOD_RADIUS = 8;
+
+// TILED_SHADOW counters: a permanent pool buffer (the last resource of the dispatch named
+// "TILED_SHADOW - Classify"; zero-initialized by the application) of 2 x 4 uint32 slots. Frame n
+// (counted from the denoiser's creation, from 1) accumulates into slot n % 2 and clears slot
+// (n + 1) % 2; once its dispatches completed, the slot with the larger FRAME entry holds it.
+constexpr uint32_t TILED_SHADOW_COUNTERS_SLOT_SIZE = 4;      // uint32 per slot.
+constexpr uint32_t TILED_SHADOW_COUNTERS_UNIFORM_TILES = 0;  // Tiles skipped for a uniform neighbourhood.
+constexpr uint32_t TILED_SHADOW_COUNTERS_SKY_TILES = 1;      // Other tiles skipped because all pixels are sky.
+constexpr uint32_t TILED_SHADOW_COUNTERS_TOTAL_TILES = 2;    // DivideUp(width, 8) * DivideUp(height, 4).
+constexpr uint32_t TILED_SHADOW_COUNTERS_FRAME = 3;          // Frame number n.
+
 } // namespace nrd

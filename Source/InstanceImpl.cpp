@@ -189,6 +189,9 @@ Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
         case Method::REFERENCE:
             method.impl = CreateReference(builder, method.desc.method);
             break;
+        case Method::TILED_SHADOW:
+            method.impl = CreateTiledShadow(builder, method.desc.method);
+            break;
         case Method::MAX_NUM:
             break;
         }
@@ -495,6 +498,17 @@ Result InstanceImpl::SetCommonSettings(const CommonSettings& s)
     f.viewToClip = ToFloat(ToDouble(s.viewToClipMatrix));
     f.worldToViewPrev = ToFloat(ToDouble(s.worldToViewMatrixPrev));
     f.worldToClipPrev = ToFloat(Multiply(ToDouble(s.viewToClipMatrixPrev), ToDouble(s.worldToViewMatrixPrev)));
+    // Clip -> previous clip from double products, so large world coordinates cancel before anything
+    // is rounded to float: viewToClipPrev * worldToViewPrev * viewToWorld * inverse(viewToClip).
+    Mat4d clipToView;
+    f.isClipToClipPrevValid = Invert(ToDouble(s.viewToClipMatrix), clipToView);
+    if (f.isClipToClipPrevValid)
+    {
+        Mat4d viewToViewPrev = Multiply(ToDouble(s.worldToViewMatrixPrev), viewToWorld);
+        f.clipToClipPrev = ToFloat(Multiply(Multiply(ToDouble(s.viewToClipMatrixPrev), viewToViewPrev), clipToView));
+    }
+    else
+        f.clipToClipPrev = glsl::mat4{{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};
 
     m_PrevWidth = width;
     m_PrevHeight = height;

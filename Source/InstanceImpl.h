@@ -97,6 +97,10 @@ struct FrameData
     bool resetHistory = true;
     glsl::mat4 viewToWorld = {}, worldToClipPrev = {}, worldToViewPrev = {}, viewToClip = {};
     glsl::vec4 frustum = {};
+    // Current clip -> previous clip (inverse(viewToClip * worldToView), then viewToClipPrev *
+    // worldToViewPrev), formed in double precision; identity and false if viewToClip is singular.
+    glsl::mat4 clipToClipPrev = {};
+    bool isClipToClipPrevValid = false;
     float viewZSign = 1.0f;
     float projectY = 1.0f;
 };
@@ -169,6 +173,7 @@ enum class SettingsKind : uint32_t
 {
     SIGMA,
     REFERENCE,
+    TILED_SHADOW,
 };
 
 class MethodBase
@@ -214,6 +219,7 @@ private:
 
 // Factory of each method family (Source/<Family>.cpp).
 std::unique_ptr<MethodBase> CreateSigma(MethodBuilder& builder, Method method);
+std::unique_ptr<MethodBase> CreateTiledShadow(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateReference(MethodBuilder& builder, Method method);
 
 class InstanceImpl

@@ -9,19 +9,20 @@ namespace nrd
 
 static_assert(NRD_VERSION_MAJOR == 0 && NRD_VERSION_MINOR == 1, "Wrapper.cpp does not match NRD.h");
 
-static const Method kSupportedMethods[] = {Method::SIGMA_SHADOW, Method::SIGMA_SHADOW_TRANSLUCENCY, Method::REFERENCE};
+static const Method kSupportedMethods[] = {Method::SIGMA_SHADOW, Method::SIGMA_SHADOW_TRANSLUCENCY, Method::REFERENCE,
+                                           Method::TILED_SHADOW};
 static_assert(sizeof(kSupportedMethods) / sizeof(kSupportedMethods[0]) == size_t(Method::MAX_NUM),
               "every method must be listed");
 
 static const char* const kResultNames[] = {"SUCCESS", "FAILURE", "INVALID_ARGUMENT", "UNSUPPORTED", "NON_UNIQUE_IDENTIFIER"};
 static_assert(sizeof(kResultNames) / sizeof(kResultNames[0]) == size_t(Result::MAX_NUM), "name table");
 
-static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLUCENCY", "REFERENCE"};
+static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLUCENCY", "REFERENCE", "TILED_SHADOW"};
 static_assert(sizeof(kMethodNames) / sizeof(kMethodNames[0]) == size_t(Method::MAX_NUM), "name table");
 
 static const char* const kResourceTypeNames[] = {"IN_MV", "IN_NORMAL_ROUGHNESS", "IN_VIEWZ", "IN_SHADOWDATA",
-    "IN_SHADOW_TRANSLUCENCY", "IN_RADIANCE", "OUT_SHADOW_TRANSLUCENCY", "OUT_RADIANCE", "TRANSIENT_POOL",
-    "PERMANENT_POOL", "BUFFER_POOL"};
+    "IN_SHADOW_TRANSLUCENCY", "IN_RADIANCE", "IN_SHADOW_VISIBILITY", "IN_SHADOW_BITMASK", "OUT_SHADOW_TRANSLUCENCY",
+    "OUT_RADIANCE", "TRANSIENT_POOL", "PERMANENT_POOL", "BUFFER_POOL"};
 static_assert(sizeof(kResourceTypeNames) / sizeof(kResourceTypeNames[0]) == size_t(ResourceType::MAX_NUM), "name table");
 
 static const char* const kFormatNames[] = {"R8_UNORM", "RG8_UNORM", "RGBA8_UNORM", "R16_SFLOAT", "RG16_SFLOAT",
@@ -141,6 +142,11 @@ Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const SigmaS
 Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReferenceSettings& settings)
 {
     return SetSettings(denoiser, identifier, SettingsKind::REFERENCE, &settings);
+}
+
+Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const TiledShadowSettings& settings)
+{
+    return SetSettings(denoiser, identifier, SettingsKind::TILED_SHADOW, &settings);
 }
 
 Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,

@@ -534,3 +534,91 @@ TEST_CASE("A repeated identifier in GetComputeDispatches is rejected", "[api]")
     CHECK(dispatches[0].identifier == 2u);
     CHECK(dispatches[1].identifier == 1u);
 }
+
+TEST_CASE("Golden dispatch sequence and pools of TILED_SHADOW", "[api]")
+{
+    Instance inst({{3, nrd::Method::TILED_SHADOW}}, 67, 33);
+    REQUIRE(inst.result == nrd::Result::SUCCESS);
+    nrd::Denoiser& d = *inst.denoiser;
+    const std::vector<std::string> atrous = {"TILED_SHADOW - A-trous step 1", "TILED_SHADOW - A-trous step 2",
+                                             "TILED_SHADOW - A-trous step 4"};
+    std::vector<std::string> full = {"TILED_SHADOW - Prepare", "TILED_SHADOW - Classify"};
+    full.insert(full.end(), atrous.begin(), atrous.end());
+    CHECK(DispatchNames(d, 0) == full);
+    CHECK(DispatchNames(d, 1) == full);
+
+    nrd::TiledShadowSettings settings;
+    settings.isBitmaskInput = true;
+    REQUIRE(nrd::SetMethodSettings(d, 3, settings) == nrd::Result::SUCCESS);
+    std::vector<std::string> bitmask = {"TILED_SHADOW - Classify"};
+    bitmask.insert(bitmask.end(), atrous.begin(), atrous.end());
+    CHECK(DispatchNames(d, 2) == bitmask);
+    {
+        const nrd::DispatchDesc* dispatches = nullptr;
+        uint32_t num = 0;
+        REQUIRE(nrd::GetComputeDispatches(d, nullptr, 0, dispatches, num) == nrd::Result::SUCCESS);
+        CHECK(dispatches[0].resources[0].type == nrd::ResourceType::IN_SHADOW_BITMASK);
+        // The counters are the last resource of the classification.
+        CHECK(dispatches[0].resources[dispatches[0].resourcesNum - 1].type == nrd::ResourceType::BUFFER_POOL);
+        // 16x16-pixel groups over the image, no group outside it.
+        CHECK(dispatches[0].gridWidth == 5);
+        CHECK(dispatches[0].gridHeight == 3);
+    }
+
+    settings.isBitmaskInput = false;
+    settings.atrousPassNum = 1;
+    REQUIRE(nrd::SetMethodSettings(d, 3, settings) == nrd::Result::SUCCESS);
+    CHECK(DispatchNames(d, 3) == std::vector<std::string>{"TILED_SHADOW - Prepare", "TILED_SHADOW - Classify",
+                                                          "TILED_SHADOW - A-trous step 1"});
+    settings.debugView = nrd::TiledShadowDebug::LOCAL_MEAN;
+    REQUIRE(nrd::SetMethodSettings(d, 3, settings) == nrd::Result::SUCCESS);
+    CHECK(DispatchNames(d, 4) == std::vector<std::string>{"TILED_SHADOW - Prepare", "TILED_SHADOW - Classify"});
+
+    const nrd::DenoiserDesc& desc = nrd::GetDenoiserDesc(d);
+    REQUIRE(desc.permanentPoolSize == 1);
+    CHECK(desc.permanentPool[0].format == nrd::Format::RG32_UINT);
+    REQUIRE(desc.transientPoolSize == 4);
+    uint32_t tileTextures = 0;
+    for (uint32_t i = 0; i < desc.transientPoolSize; i++)
+        tileTextures += desc.transientPool[i].format == nrd::Format::R32_UINT && desc.transientPool[i].downsampleX == 8 &&
+                        desc.transientPool[i].downsampleY == 4;
+    CHECK(tileTextures == 2);
+    REQUIRE(desc.buffersNum == 1);
+    CHECK(desc.buffers[0].isPermanent);
+    CHECK(desc.buffers[0].size == 2 * nrd::TILED_SHADOW_COUNTERS_SLOT_SIZE * sizeof(uint32_t));
+}
+
+TEST_CASE("TILED_SHADOW settings outside their ranges are rejected", "[api]")
+{
+    Instance inst({{3, nrd::Method::TILED_SHADOW}}, 32, 32);
+    REQUIRE(inst.result == nrd::Result::SUCCESS);
+    nrd::Denoiser& d = *inst.denoiser;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    std::vector<std::pair<const char*, nrd::TiledShadowSettings>> bad;
+    auto add = [&](const char* what, auto edit) {
+        nrd::TiledShadowSettings s;
+        edit(s);
+        bad.push_back({what, s});
+    };
+    add("radius 0", [](nrd::TiledShadowSettings& s) { s.neighborhoodRadius = 0; });
+    add("radius 9", [](nrd::TiledShadowSettings& s) { s.neighborhoodRadius = 9; });
+    add("clamp sigma 0", [](nrd::TiledShadowSettings& s) { s.historyClampSigma = 0.0f; });
+    add("clamp sigma NaN", [&](nrd::TiledShadowSettings& s) { s.historyClampSigma = nan; });
+    add("grazing threshold 2", [](nrd::TiledShadowSettings& s) { s.disocclusionThresholdGrazing = 2.0f; });
+    add("plane distance NaN", [&](nrd::TiledShadowSettings& s) { s.planeDistanceSensitivity = nan; });
+    add("normal power -1", [](nrd::TiledShadowSettings& s) { s.normalPower = -1.0f; });
+    add("0 a-trous passes", [](nrd::TiledShadowSettings& s) { s.atrousPassNum = 0; });
+    add("4 a-trous passes", [](nrd::TiledShadowSettings& s) { s.atrousPassNum = 4; });
+    add("history 0", [](nrd::TiledShadowSettings& s) { s.maxHistoryFrameNum = 0; });
+    add("history 64", [](nrd::TiledShadowSettings& s) { s.maxHistoryFrameNum = nrd::TILED_SHADOW_MAX_HISTORY_FRAME_NUM + 1; });
+    add("unknown debug view", [](nrd::TiledShadowSettings& s) { s.debugView = nrd::TiledShadowDebug::MAX_NUM; });
+    for (auto& [what, s] : bad)
+    {
+        INFO(what);
+        size_t before = inst.log.messages.size();
+        CHECK(nrd::SetMethodSettings(d, 3, s) == nrd::Result::INVALID_ARGUMENT);
+        CHECK(inst.log.messages.size() == before + 1);
+    }
+    CHECK(nrd::SetMethodSettings(d, 3, nrd::SigmaSettings{}) == nrd::Result::INVALID_ARGUMENT);
+    CHECK(nrd::SetMethodSettings(d, 3, nrd::TiledShadowSettings{}) == nrd::Result::SUCCESS);
+}

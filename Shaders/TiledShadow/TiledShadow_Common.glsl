@@ -1,0 +1,50 @@
+// TILED_SHADOW: helpers shared by its passes (tiles, history packing).
+#ifndef TILED_SHADOW_COMMON_GLSL
+#define TILED_SHADOW_COMMON_GLSL
+
+// Tiles are 8x4 pixels; bit (x % 8) + 8 * (y % 4) of a tile's mask is pixel (x, y), 1 = lit.
+#define TS_TILE_W 8
+#define TS_TILE_H 4
+
+// Tile classes (the tile class texture, TiledShadowDebug::TILE_CLASS shows class / 4).
+#define TS_TILE_FILTERED 0u
+#define TS_TILE_LIT 1u      // Uniformly lit neighbourhood: skipped, written as 1.
+#define TS_TILE_SHADOWED 2u // Uniformly shadowed neighbourhood: skipped, written as 0.
+#define TS_TILE_SKY 3u      // Every pixel is sky: skipped, nothing written.
+
+// gFlags bits of the classification pass.
+#define TS_FLAG_TILE_SKIPPING 1u
+#define TS_FLAG_HISTORY_VALID 2u
+
+// TiledShadowDebug values.
+#define TS_DEBUG_NONE 0u
+#define TS_DEBUG_LOCAL_MEAN 1u
+#define TS_DEBUG_TEMPORAL_VARIANCE 2u
+#define TS_DEBUG_HISTORY_LENGTH 3u
+#define TS_DEBUG_TILE_CLASS 4u
+
+// Largest history length the packed state holds (TILED_SHADOW_MAX_HISTORY_FRAME_NUM).
+#define TS_MAX_HISTORY 63.0
+
+uvec2 _TS_TileCount(uvec2 size) { return (size + uvec2(TS_TILE_W - 1, TS_TILE_H - 1)) / uvec2(TS_TILE_W, TS_TILE_H); }
+
+// The permanent state texture (RG32_UINT): .x = viewZ (float bits), .y = history (the first
+// a-trous pass's output, 12-bit unorm) | temporal mean of the raw samples (12-bit unorm) << 12 |
+// accumulated samples * 4 (8 bits) << 24. The raw samples are 0 or 1, so their temporal variance
+// follows from the mean: mean * (1 - mean).
+uint _TS_PackHistory(float history, float mean, float count)
+{
+    uint h = uint(clamp(_NRD_Sanitize(history, 0.0), 0.0, 1.0) * 4095.0 + 0.5);
+    uint m = uint(clamp(_NRD_Sanitize(mean, 0.0), 0.0, 1.0) * 4095.0 + 0.5);
+    uint n = uint(clamp(_NRD_Sanitize(count, 0.0), 0.0, TS_MAX_HISTORY) * 4.0 + 0.5);
+    return h | (m << 12) | (n << 24);
+}
+
+// .x history, .y temporal mean, .z accumulated samples.
+vec3 _TS_UnpackHistory(uint packed)
+{
+    return vec3(float(packed & 4095u) * (1.0 / 4095.0), float((packed >> 12) & 4095u) * (1.0 / 4095.0),
+                float(packed >> 24) * 0.25);
+}
+
+#endif
