@@ -1,0 +1,179 @@
+// SIGMA penumbra-driven blur (document 004, SIGMA), first spatial pass.
+//
+// 1. Penumbra estimate: occluded pixels know their penumbra radius, lit ones do not. The center's
+//    penumbra is the weighted mean over the occluded pixels of a dense 7x7 window (shared memory),
+//    preferring smaller penumbrae (1 / (1 + radius)) so wide penumbrae do not bleed into narrow ones.
+// 2. Kernel radius = penumbra radius * gBlurRadiusScale (pixels), at most 32.
+// 3. Filter: dense 5x5 around the center plus a sparse rotated disk on the tangent plane, Gaussian
+//    falloff, plane-distance and normal weights; sky samples are skipped. The sparse samples also
+//    refine the penumbra estimate, which the next passes reuse.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "Bindings.glsl"
+#include "Sigma_Blur.resources.h"
+#include "CommonFrame.glsl"
+#include "Sigma_Common.glsl"
+
+#define BORDER 3
+#define SMEM_SIZE (SIGMA_TILE_SIZE + 2 * BORDER)
+#define DENSE_RADIUS 2
+#define SPARSE_SAMPLE_NUM 16u
+
+shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
+shared float s_Penumbra[SMEM_SIZE][SMEM_SIZE]; // pixels, SIGMA_UNKNOWN_PENUMBRA where lit
+shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
+
+SIGMA_TYPE LoadSignal(ivec2 pixel, float visibility)
+{
+#if SIGMA_TRANSLUCENCY
+    return _Sigma_Signal01(texelFetch(sampler2D(gIn_ShadowTranslucency, gNearestClamp), pixel, 0));
+#else
+    return _Sigma_Signal01(visibility);
+#endif
+}
+
+void Preload(ivec2 smemPos, ivec2 pixel)
+{
+    float viewZ = 0.0;
+    float penumbra = SIGMA_UNKNOWN_PENUMBRA;
+    SIGMA_TYPE signal = SIGMA_TYPE(1.0);
+    if (all(greaterThanEqual(pixel, ivec2(0))) && all(lessThan(uvec2(pixel), gResourceSize)))
+    {
+        float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
+        if (!_NRD_IsSky(z))
+        {
+            vec2 shadowData = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), pixel, 0).xy;
+            viewZ = z;
+            penumbra = _Sigma_PenumbraPixels(shadowData.y);
+            signal = LoadSignal(pixel, shadowData.x);
+        }
+    }
+    s_ViewZ[smemPos.y][smemPos.x] = viewZ;
+    s_Penumbra[smemPos.y][smemPos.x] = penumbra;
+    s_Signal[smemPos.y][smemPos.x] = signal;
+}
+
+void main()
+{
+    uint mode = _Sigma_GroupTileMode(gIn_Tiles);
+    if (mode == SIGMA_MODE_SKY)
+        return;
+
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    bool isInside = all(lessThan(uvec2(pixel), gResourceSize));
+
+    if (mode == SIGMA_MODE_COPY)
+    {
+        if (!isInside)
+            return;
+        float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
+        if (_NRD_IsSky(viewZ))
+            return;
+        vec2 shadowData = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), pixel, 0).xy;
+        imageStore(gOut_Shadow, pixel, vec4(LoadSignal(pixel, shadowData.x)));
+        imageStore(gOut_Penumbra, pixel, vec4(_Sigma_PenumbraPixels(shadowData.y)));
+        return;
+    }
+
+    ivec2 groupOrigin = ivec2(gl_WorkGroupID.xy) * SIGMA_TILE_SIZE - BORDER;
+    for (uint i = gl_LocalInvocationIndex; i < uint(SMEM_SIZE * SMEM_SIZE); i += uint(SIGMA_TILE_SIZE * SIGMA_TILE_SIZE))
+    {
+        ivec2 smemPos = ivec2(int(i % uint(SMEM_SIZE)), int(i / uint(SMEM_SIZE)));
+        Preload(smemPos, groupOrigin + smemPos);
+    }
+    barrier();
+
+    ivec2 c = ivec2(gl_LocalInvocationID.xy) + BORDER;
+    float viewZ = s_ViewZ[c.y][c.x];
+    if (!isInside || viewZ == 0.0)
+        return; // Sky: not written.
+
+    vec2 uv = _NRD_PixelUv(pixel);
+    vec3 Xv = _NRD_ViewPosition(uv, viewZ);
+    vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
+    vec3 Nv = _Sigma_ViewNormal(N);
+    float invTolerance = 1.0 / (gPlaneDistanceSensitivity * viewZ);
+
+    // 1. Penumbra estimate (dense 7x7, Gaussian sigma 2 px).
+    float penumbraSum = 0.0;
+    float penumbraWeightSum = 0.0;
+    for (int j = -BORDER; j <= BORDER; j++)
+    {
+        for (int i = -BORDER; i <= BORDER; i++)
+        {
+            float z = s_ViewZ[c.y + j][c.x + i];
+            float p = s_Penumbra[c.y + j][c.x + i];
+            if (z == 0.0 || p < 0.0)
+                continue;
+            vec3 Xs = _NRD_ViewPosition(uv + vec2(i, j) * gInvResourceSize, z);
+            float w = exp(-0.125 * float(i * i + j * j)) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance) / (1.0 + p);
+            penumbraSum += p * w;
+            penumbraWeightSum += w;
+        }
+    }
+
+    SIGMA_TYPE center = s_Signal[c.y][c.x];
+    float penumbra = penumbraWeightSum > 0.0 ? penumbraSum / penumbraWeightSum : SIGMA_UNKNOWN_PENUMBRA;
+    float radius = _Sigma_KernelRadius(max(penumbra, 0.0));
+    if (radius < 0.5)
+    {
+        // No penumbra around (or a sub-pixel one): the input is already the answer.
+        imageStore(gOut_Shadow, pixel, vec4(center));
+        imageStore(gOut_Penumbra, pixel, vec4(penumbra));
+        return;
+    }
+
+    // 3a. Dense 5x5.
+    SIGMA_TYPE sum = center;
+    float weightSum = 1.0;
+    float invRadius2 = 1.0 / (radius * radius);
+    for (int j = -DENSE_RADIUS; j <= DENSE_RADIUS; j++)
+    {
+        for (int i = -DENSE_RADIUS; i <= DENSE_RADIUS; i++)
+        {
+            float z = s_ViewZ[c.y + j][c.x + i];
+            if ((i == 0 && j == 0) || z == 0.0)
+                continue;
+            vec3 Xs = _NRD_ViewPosition(uv + vec2(i, j) * gInvResourceSize, z);
+            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance);
+            sum += s_Signal[c.y + j][c.x + i] * w;
+            weightSum += w;
+        }
+    }
+
+    // 3b. Sparse rotated disk on the tangent plane.
+    vec3 T, B;
+    _Sigma_KernelBasis(Nv, radius * viewZ / gProjectY, T, B);
+    float angle = _Sigma_KernelAngle(pixel, 0u);
+    for (uint n = 0u; n < SPARSE_SAMPLE_NUM; n++)
+    {
+        vec2 o = _Sigma_DiskSample(n, SPARSE_SAMPLE_NUM, angle);
+        ivec2 q;
+        if (!_Sigma_ProjectToPixel(Xv + T * o.x + B * o.y, q))
+            continue;
+        float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+        if (_NRD_IsSky(z))
+            continue;
+        vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
+        vec3 Ns = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0)).xyz;
+        vec2 shadowData = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).xy;
+
+        float w = _Sigma_KernelWeight(dot(o, o)) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance) *
+                  _Sigma_NormalWeight(N, Ns);
+        sum += LoadSignal(q, shadowData.x) * w;
+        weightSum += w;
+
+        float p = _Sigma_PenumbraPixels(shadowData.y);
+        if (p >= 0.0)
+        {
+            float pw = w / (1.0 + p);
+            penumbraSum += p * pw;
+            penumbraWeightSum += pw;
+        }
+    }
+
+    float refinedPenumbra = penumbraWeightSum > 0.0 ? penumbraSum / penumbraWeightSum : penumbra;
+    imageStore(gOut_Shadow, pixel, vec4(sum / weightSum));
+    imageStore(gOut_Penumbra, pixel, vec4(refinedPenumbra));
+}

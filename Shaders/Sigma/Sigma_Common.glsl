@@ -1,0 +1,179 @@
+// SIGMA: helpers shared by the passes (document 004, SIGMA). Include after the pass's
+// .resources.h and CommonFrame.glsl: the helpers read the NRD_COMMON_CONSTANTS and SIGMA_CONSTANTS.
+//
+// Signal: SIGMA_SHADOW denoises the visibility IN_SHADOWDATA.x (a float);
+// SIGMA_SHADOW_TRANSLUCENCY denoises IN_SHADOW_TRANSLUCENCY (.x shadow, .yzw translucency, a vec4)
+// with the same weights. IN_SHADOWDATA.y is the penumbra radius divided by viewZ, or NRD_FP16_MAX
+// where the light is visible ("unknown": the penumbra comes from the occluded neighbours).
+#ifndef SIGMA_COMMON_GLSL
+#define SIGMA_COMMON_GLSL
+
+#if SIGMA_TRANSLUCENCY
+#define SIGMA_TYPE vec4
+#else
+#define SIGMA_TYPE float
+#endif
+
+// One workgroup of the filtering passes covers exactly one tile of gIn_Tiles.
+#define SIGMA_TILE_SIZE 16
+
+// Largest kernel radius in pixels (blur and classification agree on it).
+#define SIGMA_MAX_PIXEL_RADIUS 32.0
+
+// Pixels a pass reads beyond its kernel radius (dense penumbra window 3, temporal statistics 2).
+#define SIGMA_TILE_REACH_MARGIN 5.0
+
+// gIn_Tiles.x values; .y is the largest kernel radius in pixels of the tile's occluded pixels.
+#define SIGMA_TILE_UNIFORM 0.0
+#define SIGMA_TILE_MIXED 1.0
+#define SIGMA_TILE_SKY 2.0
+
+// What a workgroup does (uniform over the group, see _Sigma_GroupTileMode).
+#define SIGMA_MODE_SKY 0u      // Only sky pixels: nothing to write.
+#define SIGMA_MODE_COPY 1u     // Uniform input in the reach of every kernel: copying is exact.
+#define SIGMA_MODE_DENOISE 2u
+
+// Penumbra marker of lit (or invalid) pixels in the internal penumbra textures.
+#define SIGMA_UNKNOWN_PENUMBRA (-1.0)
+
+//==================================================================================================
+// Inputs, sanitized: non-finite visibility reads as lit, non-finite penumbra as unknown.
+//==================================================================================================
+
+float _Sigma_Signal01(float x) { return clamp(_NRD_Sanitize(x, 1.0), 0.0, 1.0); }
+vec4 _Sigma_Signal01(vec4 x) { return clamp(_NRD_Sanitize(x, 1.0), vec4(0.0), vec4(1.0)); }
+
+float _Sigma_MaxComponent(float x) { return x; }
+float _Sigma_MaxComponent(vec4 x) { return max(max(x.x, x.y), max(x.z, x.w)); }
+
+// Penumbra radius in pixels from IN_SHADOWDATA.y (radius / viewZ), or SIGMA_UNKNOWN_PENUMBRA.
+float _Sigma_PenumbraPixels(float penumbraOverViewZ)
+{
+    // NaN fails the first test; lit pixels carry NRD_FP16_MAX (finite penumbrae stay below half of it).
+    if (!(penumbraOverViewZ >= 0.0) || penumbraOverViewZ >= NRD_FP16_MAX * 0.75)
+        return SIGMA_UNKNOWN_PENUMBRA;
+    return min(penumbraOverViewZ * gProjectY, 16384.0);
+}
+
+// Kernel radius in pixels of a penumbra radius in pixels.
+float _Sigma_KernelRadius(float penumbraPixels) { return min(penumbraPixels * gBlurRadiusScale, SIGMA_MAX_PIXEL_RADIUS); }
+
+//==================================================================================================
+// Tiles.
+//==================================================================================================
+
+shared uint s_SigmaTileFlags;
+
+// Decides what this 16x16 workgroup does from the 5x5 tiles around it: it denoises if a mixed tile
+// lies within the kernel reach of its pixels (the tile map dilated by the radius, at most 2 tiles),
+// copies if only uniform tiles are in reach, and skips sky-only tiles. Contains barriers: call it
+// from uniform control flow, before any early return.
+uint _Sigma_GroupTileMode(texture2D tiles)
+{
+    uint localIndex = gl_LocalInvocationIndex;
+    if (localIndex == 0u)
+        s_SigmaTileFlags = 0u;
+    barrier();
+
+    if (localIndex < 25u)
+    {
+        ivec2 self = ivec2(gl_WorkGroupID.xy);
+        ivec2 offset = ivec2(int(localIndex % 5u), int(localIndex / 5u)) - 2;
+        ivec2 other = self + offset;
+        ivec2 tilesNum = ivec2((gResourceSize + uvec2(SIGMA_TILE_SIZE - 1)) / uvec2(SIGMA_TILE_SIZE));
+        if (all(greaterThanEqual(other, ivec2(0))) && all(lessThan(other, tilesNum)))
+        {
+            vec2 selfTile = texelFetch(sampler2D(tiles, gNearestClamp), self, 0).xy;
+            vec2 otherTile = texelFetch(sampler2D(tiles, gNearestClamp), other, 0).xy;
+            int distance = max(abs(offset.x), abs(offset.y));
+            // Pixels between the two tiles, and how far kernels of either tile can read.
+            float gap = float((distance - 1) * SIGMA_TILE_SIZE + 1);
+            float reach = max(_NRD_Sanitize(selfTile.y, SIGMA_MAX_PIXEL_RADIUS), _NRD_Sanitize(otherTile.y, SIGMA_MAX_PIXEL_RADIUS)) +
+                          SIGMA_TILE_REACH_MARGIN;
+            if (otherTile.x == SIGMA_TILE_MIXED && (distance <= 1 || reach >= gap))
+                atomicOr(s_SigmaTileFlags, 1u);
+            if (distance == 0 && selfTile.x != SIGMA_TILE_SKY)
+                atomicOr(s_SigmaTileFlags, 2u);
+        }
+    }
+    barrier();
+
+    uint flags = s_SigmaTileFlags;
+    if ((flags & 2u) == 0u)
+        return SIGMA_MODE_SKY;
+    return (flags & 1u) != 0u ? SIGMA_MODE_DENOISE : SIGMA_MODE_COPY;
+}
+
+//==================================================================================================
+// Kernel.
+//==================================================================================================
+
+// Per-pixel, per-frame rotation of the sparse kernel (decorrelates the pattern spatially and over
+// time, so temporal stabilization averages different sample sets).
+float _Sigma_KernelAngle(ivec2 pixel, uint salt)
+{
+    uint seed = uint(pixel.x) * 0x8da6b343u ^ uint(pixel.y) * 0xd8163841u ^ (gFrameIndex + salt) * 0xcb1ab31fu;
+    return _NRD_Random01(seed) * (2.0 * NRD_PI);
+}
+
+// Sample 'i' of 'n' of a Vogel (golden angle) disk of radius 1, rotated by 'angle'.
+vec2 _Sigma_DiskSample(uint i, uint n, float angle)
+{
+    float r = sqrt((float(i) + 0.5) / float(n));
+    float a = float(i) * 2.39996323 + angle;
+    return r * vec2(cos(a), sin(a));
+}
+
+// Gaussian falloff over the kernel, 'r2' = squared distance in units of the kernel radius.
+float _Sigma_KernelWeight(float r2) { return exp(-3.0 * r2); }
+
+// 1 on the plane of the center, falling to 0 at the plane distance tolerance.
+float _Sigma_PlaneWeight(vec3 centerPos, vec3 centerNormal, vec3 samplePos, float invTolerance)
+{
+    return clamp(1.0 - abs(dot(centerNormal, samplePos - centerPos)) * invTolerance, 0.0, 1.0);
+}
+
+float _Sigma_NormalWeight(vec3 centerNormal, vec3 sampleNormal) { return smoothstep(0.5, 0.9, dot(centerNormal, sampleNormal)); }
+
+// Tangent-plane axes (view space) scaled to the kernel's world radius. A penumbra is a world-space
+// footprint on the receiver, so the kernel lives on the surface: grazing surfaces get the
+// foreshortened screen footprint for free. With a known infinite light the kernel is stretched
+// along the light direction projected on the surface, where penumbrae stretch by 1 / cos(N, L).
+void _Sigma_KernelBasis(vec3 Nv, float worldRadius, out vec3 T, out vec3 B)
+{
+    vec3 up = abs(Nv.z) < 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
+    T = normalize(cross(up, Nv));
+    B = cross(Nv, T);
+    float stretch = 1.0;
+    if (gLightDirectionView.w != 0.0)
+    {
+        vec3 t = cross(gLightDirectionView.xyz, Nv);
+        if (dot(t, t) > 1e-6)
+        {
+            T = normalize(t);
+            B = cross(Nv, T);
+            stretch = 1.0 / mix(0.4, 1.0, abs(dot(Nv, gLightDirectionView.xyz)));
+        }
+    }
+    T *= worldRadius;
+    B *= worldRadius * stretch;
+}
+
+// Pixel of a view-space position, false if it is behind the camera or off the image.
+bool _Sigma_ProjectToPixel(vec3 Xv, out ivec2 pixel)
+{
+    vec4 clip = gViewToClip * vec4(Xv, 1.0);
+    pixel = ivec2(0);
+    if (!(clip.w > NRD_EPS))
+        return false;
+    vec2 uv = (clip.xy / clip.w) * 0.5 + 0.5;
+    vec2 p = floor(uv * vec2(gResourceSize));
+    if (any(lessThan(p, vec2(0.0))) || any(greaterThanEqual(p, vec2(gResourceSize))))
+        return false;
+    pixel = ivec2(p);
+    return true;
+}
+
+vec3 _Sigma_ViewNormal(vec3 N) { return normalize(transpose(mat3(gViewToWorld)) * N); }
+
+#endif

@@ -1,0 +1,18 @@
+// SIGMA: constants shared by every pass of the method (after NRD_COMMON_CONSTANTS). Read by GLSL and
+// C++ through the pass declarations; Source/Sigma.cpp fills them from SigmaSettings.
+//
+// gLightDirectionView     .xyz direction towards an infinite light in view space (normalized),
+//                         .w = 1 if known (anisotropic kernel), 0 otherwise
+// gBlurRadiusScale        kernel radius in pixels per pixel of penumbra radius
+// gPlaneDistanceSensitivity  plane distance tolerance relative to viewZ
+// gMaxStabilizedFrameNum  temporal stabilization length in frames
+#ifndef SIGMA_TRANSLUCENCY
+#define SIGMA_TRANSLUCENCY 0
+#endif
+
+#define SIGMA_CONSTANTS                              \
+    NRD_CONSTANT(vec4, gLightDirectionView)          \
+    NRD_CONSTANT(float, gBlurRadiusScale)            \
+    NRD_CONSTANT(float, gPlaneDistanceSensitivity)   \
+    NRD_CONSTANT(float, gMaxStabilizedFrameNum)      \
+    NRD_CONSTANT(uint, gSigmaPad0)

@@ -1,0 +1,96 @@
+// SIGMA post-blur (document 004, SIGMA), second spatial pass: the same tangent-plane kernel at half
+// the radius, rotated independently of the first pass, over the first pass's result. Dense 3x3
+// plus a sparse disk; the penumbra estimate comes from the first pass.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "Bindings.glsl"
+#include "Sigma_PostBlur.resources.h"
+#include "CommonFrame.glsl"
+#include "Sigma_Common.glsl"
+
+#define RADIUS_SCALE 0.5
+#define SPARSE_SAMPLE_NUM 12u
+
+SIGMA_TYPE LoadBlurred(ivec2 pixel)
+{
+#if SIGMA_TRANSLUCENCY
+    return _Sigma_Signal01(texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0));
+#else
+    return _Sigma_Signal01(texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0).x);
+#endif
+}
+
+void main()
+{
+    uint mode = _Sigma_GroupTileMode(gIn_Tiles);
+    if (mode == SIGMA_MODE_SKY)
+        return;
+
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), gResourceSize)))
+        return;
+    float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
+    if (_NRD_IsSky(viewZ))
+        return; // Sky: not written.
+
+    SIGMA_TYPE center = LoadBlurred(pixel);
+    float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
+    float radius = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0)) * RADIUS_SCALE;
+    if (mode == SIGMA_MODE_COPY || radius < 0.5)
+    {
+        imageStore(gOut_Shadow, pixel, vec4(center));
+        return;
+    }
+
+    vec2 uv = _NRD_PixelUv(pixel);
+    vec3 Xv = _NRD_ViewPosition(uv, viewZ);
+    vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
+    vec3 Nv = _Sigma_ViewNormal(N);
+    float invTolerance = 1.0 / (gPlaneDistanceSensitivity * viewZ);
+
+    SIGMA_TYPE sum = center;
+    float weightSum = 1.0;
+    float invRadius2 = 1.0 / (radius * radius);
+
+    // Dense 3x3.
+    for (int j = -1; j <= 1; j++)
+    {
+        for (int i = -1; i <= 1; i++)
+        {
+            ivec2 q = pixel + ivec2(i, j);
+            if ((i == 0 && j == 0) || any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)))
+                continue;
+            float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+            if (_NRD_IsSky(z))
+                continue;
+            vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
+            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance);
+            sum += LoadBlurred(q) * w;
+            weightSum += w;
+        }
+    }
+
+    // Sparse rotated disk on the tangent plane.
+    vec3 T, B;
+    _Sigma_KernelBasis(Nv, radius * viewZ / gProjectY, T, B);
+    float angle = _Sigma_KernelAngle(pixel, 0x9e3779b9u);
+    for (uint n = 0u; n < SPARSE_SAMPLE_NUM; n++)
+    {
+        vec2 o = _Sigma_DiskSample(n, SPARSE_SAMPLE_NUM, angle);
+        ivec2 q;
+        if (!_Sigma_ProjectToPixel(Xv + T * o.x + B * o.y, q))
+            continue;
+        float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+        if (_NRD_IsSky(z))
+            continue;
+        vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
+        vec3 Ns = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0)).xyz;
+        float w = _Sigma_KernelWeight(dot(o, o)) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance) *
+                  _Sigma_NormalWeight(N, Ns);
+        sum += LoadBlurred(q) * w;
+        weightSum += w;
+    }
+
+    imageStore(gOut_Shadow, pixel, vec4(sum / weightSum));
+}

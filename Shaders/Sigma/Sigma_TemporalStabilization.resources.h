@@ -1,0 +1,27 @@
+// SIGMA: reprojects the previous result, clamps it to the neighbourhood of the blurred current frame
+// and blends; writes the output and this frame's history (ping-pong by frame parity).
+#include "Sigma_Constants.h"
+
+#if SIGMA_TRANSLUCENCY
+NRD_PASS_BEGIN(Sigma_ShadowTranslucency_TemporalStabilization, 16, 16)
+#else
+NRD_PASS_BEGIN(Sigma_Shadow_TemporalStabilization, 16, 16)
+#endif
+NRD_CONSTANTS_BEGIN
+    NRD_COMMON_CONSTANTS
+    SIGMA_CONSTANTS
+NRD_CONSTANTS_END
+NRD_INPUT(0, gIn_ViewZ)
+NRD_INPUT(1, gIn_Mv)
+NRD_INPUT(2, gIn_Shadow)
+NRD_INPUT(3, gIn_Tiles)
+NRD_INPUT(4, gPrev_Shadow)
+NRD_INPUT_UINT(5, gPrev_ViewZHistoryLength)
+NRD_OUTPUT(6, gOut_ShadowTranslucency)
+#if SIGMA_TRANSLUCENCY
+NRD_INOUT(7, gHistory_Shadow, rgba16f)
+#else
+NRD_INOUT(7, gHistory_Shadow, r16f)
+#endif
+NRD_INOUT_UINT(8, gHistory_ViewZHistoryLength, r32ui)
+NRD_PASS_END
