@@ -382,8 +382,8 @@ public:
     // Timestamp queries: 'queryNum' slots.
     virtual Result CreateQueryPool(uint32_t queryNum, QueryPool*& out) = 0;
     virtual void DestroyQueryPool(QueryPool* pool) = 0;
-    // Copies 'num' raw timestamps (ticks; multiply by DeviceDesc::timestampPeriodNs) without
-    // waiting; NOT_READY if any of them is not available yet.
+    // Copies 'num' raw timestamps (ticks, masked to the queue's valid bits; multiply differences by
+    // DeviceDesc::timestampPeriodNs) without waiting; NOT_READY if any is not available yet.
     virtual Result GetTimestamps(QueryPool& pool, uint32_t first, uint32_t num, uint64_t* outTicks) = 0;
 
     // Command buffers of the device's own queue (samples and tests; engines record into their own).

@@ -281,6 +281,7 @@ private:
     VkPhysicalDeviceMemoryProperties m_MemoryProperties = {};
     VkCommandPool m_CommandPool = VK_NULL_HANDLE; // Only with a queue.
     VkFence m_Fence = VK_NULL_HANDLE;             // SubmitAndWait.
+    uint64_t m_TimestampMask = ~0ull;             // timestampValidBits of the queue family.
     PFN_vkSetDebugUtilsObjectNameEXT m_SetObjectName = nullptr; // Null without VK_EXT_debug_utils.
     PFN_vkCmdBeginDebugUtilsLabelEXT m_CmdBeginLabel = nullptr;
     PFN_vkCmdEndDebugUtilsLabelEXT m_CmdEndLabel = nullptr;
@@ -308,6 +309,8 @@ Result DeviceVK::Initialize()
     m_Desc.timestampsSupported = families[m_Vk.queueFamilyIndex].timestampValidBits != 0 &&
                                  properties.limits.timestampPeriod > 0.0f;
     m_Desc.timestampPeriodNs = properties.limits.timestampPeriod;
+    uint32_t validBits = families[m_Vk.queueFamilyIndex].timestampValidBits;
+    m_TimestampMask = validBits >= 64 ? ~0ull : (1ull << validBits) - 1;
     m_Desc.storageTextureReadWithoutFormat = m_Vk.storageImageReadWithoutFormatEnabled;
     m_Desc.storageTextureWriteWithoutFormat = m_Vk.storageImageWriteWithoutFormatEnabled;
     m_Desc.uniformBufferOffsetAlignment = properties.limits.minUniformBufferOffsetAlignment;
@@ -884,6 +887,8 @@ Result DeviceVK::GetTimestamps(QueryPool& pool, uint32_t first, uint32_t num, ui
         return Result::INVALID_ARGUMENT;
     VkResult result = vkGetQueryPoolResults(m_Vk.device, To(pool).pool, first, num, num * sizeof(uint64_t), outTicks,
                                             sizeof(uint64_t), VK_QUERY_RESULT_64_BIT);
+    for (uint32_t i = 0; i < num && result == VK_SUCCESS; i++)
+        outTicks[i] &= m_TimestampMask;
     return FromVk(result);
 }
 
