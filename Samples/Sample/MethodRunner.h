@@ -1,0 +1,66 @@
+// Runs one denoising method on a scene-lab scene through the Vulkan integration layer and measures
+// it against the scene's ground truth. Shared by nrd-sample, the benchmark and the quality tests.
+#pragma once
+
+#include "Image.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace nrdlab
+{
+
+struct RunOptions
+{
+    std::string scene = "static";   // Built-in scene name (Samples/Scenes) or a JSON file path.
+    std::string method = "SIGMA_SHADOW"; // nrd::GetMethodString name, or "NONE" (noisy input passes through).
+    std::string signal;             // shadow | diffuse | specular; empty: the method's own signal.
+    uint32_t frames = 0;            // 0: the scene's frame count.
+    uint32_t width = 256, height = 256;
+    uint32_t truthSpp = 256;
+    uint32_t seed = 0xFFFFFFFFu;    // Scene seed unless set.
+    uint32_t warmup = 8;            // Frames excluded from the averages.
+    int32_t device = -1;            // Vulkan physical device index; -1: first discrete GPU, else first.
+    bool validation = false;        // VK_LAYER_KHRONOS_validation; messages fail the run.
+    std::string settingsJson;       // (Optional) JSON text with "common", "sigma", "reference", "tiledShadow".
+    std::string cacheDirectory;     // Scene-lab frame cache; empty: the default one; "none": off.
+    bool keepImages = true;         // Keep the last frame's noisy / denoised / truth images in the report.
+    std::function<void(uint32_t frame, uint32_t frames)> progress; // (Optional)
+};
+
+struct FrameMetrics
+{
+    double relmseNoisy = 0, relmseDenoised = 0;
+    double psnrNoisy = 0, psnrDenoised = 0;
+    double ssimNoisy = 0, ssimDenoised = 0;
+    double flipNoisy = 0, flipDenoised = 0;
+    double temporalInstabilityNoisy = 0, temporalInstabilityDenoised = 0, temporalInstabilityTruth = 0;
+    double gpuMs = 0;
+};
+
+struct RunReport
+{
+    std::string scene, method, signal, device;
+    uint32_t width = 0, height = 0, frames = 0, warmup = 0, truthSpp = 0;
+    double gpuMsPerFrame = 0;      // Mean over the frames after the warm-up (0 for NONE).
+    uint64_t memoryBytes = 0;      // The integration layer's device memory (pools, constants).
+    uint32_t dispatchesPerFrame = 0, pipelines = 0;
+    FrameMetrics mean;             // Averages over the frames after the warm-up.
+    int32_t lagFrames = 0;         // Frames to recover after the first sudden change (0 if none).
+    int32_t lagEventFrame = -1;    // That change's frame, -1 if the truth never changes suddenly.
+    std::vector<FrameMetrics> perFrame;
+    std::vector<std::pair<std::string, double>> passMs; // Mean GPU time per dispatch name.
+    double renderNoisyMs = 0, renderTruthMs = 0;        // Scene-lab time per frame (wall, incl. cache).
+    uint32_t validationMessages = 0;
+    Image noisy, denoised, truth;  // Last frame (if keepImages).
+};
+
+// Returns false with 'error' set on bad options or a device failure.
+bool RunMethod(const RunOptions& options, RunReport& report, std::string& error);
+
+// The JSON report (the nrd-sample contract).
+std::string ReportToJson(const RunReport& report);
+
+} // namespace nrdlab
