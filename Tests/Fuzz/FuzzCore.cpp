@@ -193,12 +193,43 @@ nrd::ReferenceSettings DecodeReference(FuzzedDataProvider& in)
     return s;
 }
 
+nrd::TiledShadowSettings DecodeTiledShadow(FuzzedDataProvider& in)
+{
+    nrd::TiledShadowSettings s;
+    if (in.ConsumeIntegralInRange<uint8_t>(0, 7) == 0)
+    {
+        s = DecodeRaw<nrd::TiledShadowSettings>(in);
+        s.isBitmaskInput = in.ConsumeBool(); // A bool other than 0 / 1 is the caller's UB.
+        s.enableTileSkipping = in.ConsumeBool();
+        return s;
+    }
+    uint32_t edits = in.ConsumeIntegralInRange<uint32_t>(0, 4);
+    for (uint32_t e = 0; e < edits; e++)
+    {
+        switch (in.ConsumeIntegralInRange<uint8_t>(0, 9))
+        {
+        case 0: s.isBitmaskInput = in.ConsumeBool(); break;
+        case 1: s.enableTileSkipping = in.ConsumeBool(); break;
+        case 2: s.neighborhoodRadius = InterestingUint(in); break;
+        case 3: s.historyClampSigma = InterestingFloat(in); break;
+        case 4: s.disocclusionThresholdGrazing = InterestingFloat(in); break;
+        case 5: s.planeDistanceSensitivity = InterestingFloat(in); break;
+        case 6: s.normalPower = InterestingFloat(in); break;
+        case 7: s.atrousPassNum = InterestingUint(in); break;
+        case 8: s.maxHistoryFrameNum = InterestingUint(in); break;
+        default: s.debugView = nrd::TiledShadowDebug(in.ConsumeIntegral<uint8_t>()); break;
+        }
+    }
+    return s;
+}
+
 nrd::Result CallSetMethodSettings(FuzzedDataProvider& in, nrd::Denoiser& denoiser, nrd::Identifier identifier)
 {
-    switch (in.ConsumeIntegralInRange<uint8_t>(0, 1))
+    switch (in.ConsumeIntegralInRange<uint8_t>(0, 2))
     {
     case 0: return nrd::SetMethodSettings(denoiser, identifier, DecodeSigma(in));
-    default: return nrd::SetMethodSettings(denoiser, identifier, DecodeReference(in));
+    case 1: return nrd::SetMethodSettings(denoiser, identifier, DecodeReference(in));
+    default: return nrd::SetMethodSettings(denoiser, identifier, DecodeTiledShadow(in));
     }
 }
 
