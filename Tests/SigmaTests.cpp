@@ -316,8 +316,8 @@ TEST_CASE("SIGMA leaves sky pixels untouched", "[vulkan][sigma]")
     {
         INFO(GetMethodString(method));
         Scene scene;
-        scene.width = 96;
-        scene.height = 80;
+        scene.width = 101; // Partial tiles on both axes.
+        scene.height = 75;
         scene.hasSky = true;
         SigmaRig rig(*context, method, scene);
         rig.Create();
@@ -500,4 +500,186 @@ TEST_CASE("SIGMA follows camera motion with matrices, 2D and 3D motion vectors",
         CHECK(noisy / denoised > kMovingCameraFactor);
     }
     CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("SIGMA copies uniform input exactly (tiles without penumbra are skipped)", "[vulkan][sigma]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    for (Method method : {Method::SIGMA_SHADOW, Method::SIGMA_SHADOW_TRANSLUCENCY})
+    {
+        INFO(GetMethodString(method));
+        // A hard vertical shadow edge on a tile boundary (x = 48): every tile is uniform (umbra or
+        // lit), so every pass copies.
+        Scene scene;
+        scene.width = 80;
+        scene.height = 40;
+        scene.penumbraRadius = 0.01f;
+        scene.edgeAngle = 0.0f;
+        scene.edgeOffset = 8.0f;
+        SigmaRig rig(*context, method, scene);
+        rig.Create();
+        for (uint32_t frame = 0; frame < 3; frame++)
+        {
+            FrameData f = MakeFrame(scene, 8000 + frame);
+            std::vector<float> output = rig.Frame(frame, f);
+            std::vector<float> expected = test::Quantize(rhi::Format::RGBA16_SFLOAT, f.noisy);
+            if (method == Method::SIGMA_SHADOW)
+                for (size_t i = 0; i < expected.size(); i += 4)
+                    expected[i + 1] = expected[i + 2] = expected[i + 3] = expected[i];
+            CHECK(test::CountMismatches(output, expected, 0.0f, 0.0f) == 0);
+        }
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("SIGMA without temporal stabilization still denoises spatially", "[vulkan][sigma]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    {
+        Scene scene;
+        scene.width = 128;
+        scene.height = 96;
+        scene.penumbraRadius = 8.0f;
+        scene.hasSky = true;
+        SigmaRig rig(*context, Method::SIGMA_SHADOW, scene);
+        SigmaSettings settings = {};
+        settings.maxStabilizedFrameNum = 0;
+        rig.Create(settings);
+        double noisy = 0.0, denoised = 0.0;
+        for (uint32_t frame = 0; frame < 4; frame++)
+        {
+            if (frame == 2)
+            {
+                settings.maxStabilizedFrameNum = 5; // Turning it back on restarts the history.
+                REQUIRE(rig.integration.SetMethodSettings(SIGMA_ID, settings) == Result::SUCCESS);
+            }
+            FrameData f = MakeFrame(scene, 9000 + frame);
+            std::vector<float> output = rig.Frame(frame, f);
+            REQUIRE(AllFinite(output));
+            size_t skyWritten = 0;
+            for (uint32_t y = 0; y < scene.height; y++)
+                for (uint32_t x = 0; x < scene.width; x++)
+                    skyWritten += scene.IsSky(x, y) && output[(size_t(y) * scene.width + x) * 4] != kOutputSentinel;
+            CHECK(skyWritten == 0);
+            noisy += RelMse(scene, f.noisy, f.truth);
+            denoised += RelMse(scene, output, f.truth);
+        }
+        std::printf("SIGMA spatial only + restart quality factor: %.1fx\n", noisy / denoised);
+        CHECK(noisy / denoised > kFirstFrameFactor);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("SIGMA dispatch sequence and pools (golden)", "[api][sigma]")
+{
+    for (Method method : {Method::SIGMA_SHADOW, Method::SIGMA_SHADOW_TRANSLUCENCY})
+    {
+        std::string prefix = GetMethodString(method);
+        INFO(prefix);
+        MethodDesc methodDesc = {SIGMA_ID, method};
+        DenoiserCreationDesc desc = {};
+        desc.methods = &methodDesc;
+        desc.methodsNum = 1;
+        desc.renderWidth = 1920;
+        desc.renderHeight = 1080;
+        Denoiser* denoiser = nullptr;
+        REQUIRE(CreateDenoiser(desc, denoiser) == Result::SUCCESS);
+
+        const DenoiserDesc& d = GetDenoiserDesc(*denoiser);
+        CHECK(d.pipelinesNum == 4);
+        const Format signal = method == Method::SIGMA_SHADOW ? Format::R16_SFLOAT : Format::RGBA16_SFLOAT;
+        REQUIRE(d.permanentPoolSize == 4); // History and viewZ + history length, ping-pong.
+        CHECK(d.permanentPool[0].format == signal);
+        CHECK(d.permanentPool[1].format == Format::R32_UINT);
+        CHECK(d.permanentPool[2].format == signal);
+        CHECK(d.permanentPool[3].format == Format::R32_UINT);
+        REQUIRE(d.transientPoolSize == 4); // Tiles, penumbra, blurred, post-blurred.
+        CHECK(d.transientPool[0].format == Format::RG16_SFLOAT);
+        CHECK(d.transientPool[0].downsampleX == 16);
+        CHECK(d.transientPool[0].downsampleY == 16);
+
+        auto frame = [&](uint32_t frameIndex) {
+            CommonSettings settings = test::StillCameraSettings(frameIndex);
+            REQUIRE(SetCommonSettings(*denoiser, settings) == Result::SUCCESS);
+            const DispatchDesc* dispatches = nullptr;
+            uint32_t num = 0;
+            REQUIRE(GetComputeDispatches(*denoiser, nullptr, 0, dispatches, num) == Result::SUCCESS);
+            std::vector<const DispatchDesc*> list;
+            for (uint32_t i = 0; i < num; i++)
+                list.push_back(dispatches + i);
+            return list;
+        };
+        for (uint32_t f = 0; f < 2; f++)
+        {
+            auto list = frame(f);
+            REQUIRE(list.size() == 4);
+            CHECK(list[0]->name == prefix + " - Classify tiles");
+            CHECK(list[1]->name == prefix + " - Blur");
+            CHECK(list[2]->name == prefix + " - Post-blur");
+            CHECK(list[3]->name == prefix + " - Temporal stabilization");
+            CHECK(list[0]->gridWidth == 120); // One 16x16 group per tile.
+            CHECK(list[0]->gridHeight == 68);
+            // History ping-pong: frame parity f writes permanent textures 2f, 2f + 1 (bindings 7, 8)
+            // and reads the other pair (bindings 4, 5).
+            const DispatchDesc& temporal = *list[3];
+            REQUIRE(temporal.resourcesNum == 9);
+            CHECK(temporal.resources[4].type == ResourceType::PERMANENT_POOL);
+            CHECK(temporal.resources[4].indexInPool == 2 * (1 - f));
+            CHECK(temporal.resources[7].indexInPool == 2 * f);
+            CHECK(temporal.resources[8].indexInPool == 2 * f + 1);
+            CHECK(temporal.resources[6].type == ResourceType::OUT_SHADOW_TRANSLUCENCY);
+        }
+
+        SigmaSettings settings = {};
+        settings.maxStabilizedFrameNum = 0;
+        REQUIRE(SetMethodSettings(*denoiser, SIGMA_ID, settings) == Result::SUCCESS);
+        auto list = frame(2);
+        REQUIRE(list.size() == 3); // No history: the post-blur writes the output.
+        CHECK(list[2]->resources[5].type == ResourceType::OUT_SHADOW_TRANSLUCENCY);
+        DestroyDenoiser(denoiser);
+    }
+}
+
+TEST_CASE("SigmaSettings out of range are rejected with a message", "[api][sigma]")
+{
+    MethodDesc methodDesc = {SIGMA_ID, Method::SIGMA_SHADOW};
+    DenoiserCreationDesc desc = {};
+    desc.methods = &methodDesc;
+    desc.methodsNum = 1;
+    desc.renderWidth = 64;
+    desc.renderHeight = 64;
+    std::string lastMessage;
+    desc.logCallback = [](void* user, LogSeverity, const char* message) { *static_cast<std::string*>(user) = message; };
+    desc.logUserArg = &lastMessage;
+    Denoiser* denoiser = nullptr;
+    REQUIRE(CreateDenoiser(desc, denoiser) == Result::SUCCESS);
+    auto reject = [&](const SigmaSettings& s, const char* field) {
+        lastMessage.clear();
+        CHECK(SetMethodSettings(*denoiser, SIGMA_ID, s) == Result::INVALID_ARGUMENT);
+        CHECK(lastMessage.find(field) != std::string::npos);
+    };
+    SigmaSettings s = {};
+    s.blurRadiusScale = SIGMA_MAX_BLUR_RADIUS_SCALE * 2.0f;
+    reject(s, "blurRadiusScale");
+    s = {};
+    s.planeDistanceSensitivity = -0.1f;
+    reject(s, "planeDistanceSensitivity");
+    s = {};
+    s.planeDistanceSensitivity = NAN;
+    reject(s, "planeDistanceSensitivity");
+    s = {};
+    s.lightDirection[2] = INFINITY;
+    reject(s, "lightDirection");
+    s = {};
+    s.maxStabilizedFrameNum = 1000;
+    reject(s, "maxStabilizedFrameNum");
+    s = {};
+    s.lightDirection[0] = 1.0f;
+    s.blurRadiusScale = 0.0f; // Edges of the ranges are valid.
+    s.planeDistanceSensitivity = 1.0f;
+    s.maxStabilizedFrameNum = SIGMA_MAX_HISTORY_FRAME_NUM;
+    CHECK(SetMethodSettings(*denoiser, SIGMA_ID, s) == Result::SUCCESS);
+    DestroyDenoiser(denoiser);
 }

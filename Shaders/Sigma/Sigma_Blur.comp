@@ -1,7 +1,7 @@
 // SIGMA penumbra-driven blur (document 004, SIGMA), first spatial pass.
 //
 // 1. Penumbra estimate: occluded pixels know their penumbra radius, lit ones do not. The center's
-//    penumbra is the weighted mean over the occluded pixels of a dense 7x7 window (shared memory),
+//    penumbra is the weighted mean over the occluded pixels of a dense 5x5 window (shared memory),
 //    preferring smaller penumbrae (1 / (1 + radius)) so wide penumbrae do not bleed into narrow ones.
 // 2. Kernel radius = penumbra radius * gBlurRadiusScale (pixels), at most 32.
 // 3. Filter: dense 5x5 around the center plus a sparse rotated disk on the tangent plane, Gaussian
@@ -15,9 +15,8 @@
 #include "CommonFrame.glsl"
 #include "Sigma_Common.glsl"
 
-#define BORDER 3
+#define BORDER 2 // Dense window radius
 #define SMEM_SIZE (SIGMA_TILE_SIZE + 2 * BORDER)
-#define DENSE_RADIUS 2
 #define SPARSE_SAMPLE_NUM 16u
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
@@ -93,9 +92,10 @@ void main()
     vec3 Xv = _NRD_ViewPosition(uv, viewZ);
     vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
     vec3 Nv = _Sigma_ViewNormal(N);
-    float invTolerance = 1.0 / (gPlaneDistanceSensitivity * viewZ);
+    SigmaPlane plane = _Sigma_Plane(uv, viewZ, Nv);
 
-    // 1. Penumbra estimate (dense 7x7, Gaussian sigma 2 px).
+    // 1. Penumbra estimate (dense 5x5, Gaussian sigma 1.5 px). The geometry weights are kept for 3a.
+    float geometryWeights[(2 * BORDER + 1) * (2 * BORDER + 1)];
     float penumbraSum = 0.0;
     float penumbraWeightSum = 0.0;
     for (int j = -BORDER; j <= BORDER; j++)
@@ -103,11 +103,10 @@ void main()
         for (int i = -BORDER; i <= BORDER; i++)
         {
             float z = s_ViewZ[c.y + j][c.x + i];
+            float g = z == 0.0 ? 0.0 : _Sigma_NeighbourPlaneWeight(plane, i, j, z);
+            geometryWeights[(j + BORDER) * (2 * BORDER + 1) + i + BORDER] = g;
             float p = s_Penumbra[c.y + j][c.x + i];
-            if (z == 0.0 || p < 0.0)
-                continue;
-            vec3 Xs = _NRD_ViewPosition(uv + vec2(i, j) * gInvResourceSize, z);
-            float w = exp(-0.125 * float(i * i + j * j)) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance) / (1.0 + p);
+            float w = p < 0.0 ? 0.0 : g * exp(-0.222 * float(i * i + j * j)) / (1.0 + p);
             penumbraSum += p * w;
             penumbraWeightSum += w;
         }
@@ -124,42 +123,36 @@ void main()
         return;
     }
 
-    // 3a. Dense 5x5.
-    SIGMA_TYPE sum = center;
-    float weightSum = 1.0;
+    // 3a. Dense 5x5 (the center has weight 1).
+    SIGMA_TYPE sum = SIGMA_TYPE(0.0);
+    float weightSum = 0.0;
     float invRadius2 = 1.0 / (radius * radius);
-    for (int j = -DENSE_RADIUS; j <= DENSE_RADIUS; j++)
+    for (int j = -BORDER; j <= BORDER; j++)
     {
-        for (int i = -DENSE_RADIUS; i <= DENSE_RADIUS; i++)
+        for (int i = -BORDER; i <= BORDER; i++)
         {
-            float z = s_ViewZ[c.y + j][c.x + i];
-            if ((i == 0 && j == 0) || z == 0.0)
-                continue;
-            vec3 Xs = _NRD_ViewPosition(uv + vec2(i, j) * gInvResourceSize, z);
-            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance);
+            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) *
+                      geometryWeights[(j + BORDER) * (2 * BORDER + 1) + i + BORDER];
             sum += s_Signal[c.y + j][c.x + i] * w;
             weightSum += w;
         }
     }
 
     // 3b. Sparse rotated disk on the tangent plane.
-    vec3 T, B;
-    _Sigma_KernelBasis(Nv, radius * viewZ / gProjectY, T, B);
-    float angle = _Sigma_KernelAngle(pixel, 0u);
+    SigmaKernel kernel = _Sigma_Kernel(Xv, Nv, radius * viewZ / gProjectY, _Sigma_KernelAngle(pixel, 0u));
     for (uint n = 0u; n < SPARSE_SAMPLE_NUM; n++)
     {
-        vec2 o = _Sigma_DiskSample(n, SPARSE_SAMPLE_NUM, angle);
+        vec3 o = kSigmaDisk16[n];
         ivec2 q;
-        if (!_Sigma_ProjectToPixel(Xv + T * o.x + B * o.y, q))
+        if (!_Sigma_KernelSamplePixel(kernel, o.xy, q))
             continue;
         float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
         if (_NRD_IsSky(z))
             continue;
-        vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
         vec3 Ns = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0)).xyz;
         vec2 shadowData = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).xy;
 
-        float w = _Sigma_KernelWeight(dot(o, o)) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance) *
+        float w = o.z * _Sigma_NeighbourPlaneWeight(plane, q.x - pixel.x, q.y - pixel.y, z) *
                   _Sigma_NormalWeight(N, Ns);
         sum += LoadSignal(q, shadowData.x) * w;
         weightSum += w;

@@ -116,21 +116,48 @@ float _Sigma_KernelAngle(ivec2 pixel, uint salt)
     return _NRD_Random01(seed) * (2.0 * NRD_PI);
 }
 
-// Sample 'i' of 'n' of a Vogel (golden angle) disk of radius 1, rotated by 'angle'.
-vec2 _Sigma_DiskSample(uint i, uint n, float angle)
-{
-    float r = sqrt((float(i) + 0.5) / float(n));
-    float a = float(i) * 2.39996323 + angle;
-    return r * vec2(cos(a), sin(a));
-}
+// Vogel (golden angle) disks of radius 1: sample i at radius sqrt((i + 0.5) / n), angle i * 2.39996;
+// .z = _Sigma_KernelWeight(r^2), precomputed.
+const vec3 kSigmaDisk16[16] = vec3[16](
+    vec3(0.176777, 0.000000, 0.910510), vec3(-0.225772, 0.206826, 0.754840), vec3(0.034558, -0.393771, 0.625784),
+    vec3(0.284571, 0.371173, 0.518793), vec3(-0.522223, -0.092374, 0.430095), vec3(0.494695, -0.314685, 0.356561),
+    vec3(-0.165466, 0.615525, 0.295599), vec3(-0.315561, -0.607594, 0.245061), vec3(0.684642, 0.250030, 0.203162),
+    vec3(-0.712256, 0.294009, 0.168427), vec3(0.343355, -0.733729, 0.139631), vec3(0.253730, 0.808932, 0.115758),
+    vec3(-0.764746, -0.443186, 0.095967), vec3(0.897134, -0.197232, 0.079560), vec3(-0.547507, 0.778772, 0.065957),
+    vec3(-0.126487, -0.976090, 0.054680));
+const vec3 kSigmaDisk12[12] = vec3[12](
+    vec3(0.204124, 0.000000, 0.882497), vec3(-0.260699, 0.238822, 0.687289), vec3(0.039904, -0.454688, 0.535261),
+    vec3(0.328595, 0.428593, 0.416862), vec3(-0.603011, -0.106664, 0.324652), vec3(0.571225, -0.363367, 0.252840),
+    vec3(-0.191064, 0.710747, 0.196912), vec3(-0.364379, -0.701590, 0.153355), vec3(0.790557, 0.288710, 0.119433),
+    vec3(-0.822442, 0.339492, 0.093014), vec3(0.396472, -0.847237, 0.072440), vec3(0.292982, 0.934074, 0.056416));
 
 // Gaussian falloff over the kernel, 'r2' = squared distance in units of the kernel radius.
 float _Sigma_KernelWeight(float r2) { return exp(-3.0 * r2); }
 
-// 1 on the plane of the center, falling to 0 at the plane distance tolerance.
-float _Sigma_PlaneWeight(vec3 centerPos, vec3 centerNormal, vec3 samplePos, float invTolerance)
+// Plane distance of the neighbours of a pixel in 3 MADs each: a neighbour at pixel offset (i, j)
+// with viewZ z lies at z * ray(i, j), and dot(Nv, ray(i, j)) is linear in (i, j).
+struct SigmaPlane
 {
-    return clamp(1.0 - abs(dot(centerNormal, samplePos - centerPos)) * invTolerance, 0.0, 1.0);
+    vec3 k;      // dot(Nv, ray(i, j)) = k.x + k.y * i + k.z * j
+    float d;     // dot(Nv, Xv) of the center
+    float invTolerance;
+};
+
+SigmaPlane _Sigma_Plane(vec2 uv, float viewZ, vec3 Nv)
+{
+    vec2 ndc = uv * 2.0 - 1.0;
+    SigmaPlane p;
+    p.k.x = Nv.x * (ndc.x * gFrustum.x + gFrustum.y) + Nv.y * (ndc.y * gFrustum.z + gFrustum.w) + Nv.z * gViewZSign;
+    p.k.y = Nv.x * gFrustum.x * 2.0 * gInvResourceSize.x;
+    p.k.z = Nv.y * gFrustum.z * 2.0 * gInvResourceSize.y;
+    p.d = viewZ * p.k.x;
+    p.invTolerance = 1.0 / (gPlaneDistanceSensitivity * viewZ);
+    return p;
+}
+
+float _Sigma_NeighbourPlaneWeight(SigmaPlane p, int i, int j, float z)
+{
+    return clamp(1.0 - abs(z * (p.k.x + p.k.y * float(i) + p.k.z * float(j)) - p.d) * p.invTolerance, 0.0, 1.0);
 }
 
 float _Sigma_NormalWeight(vec3 centerNormal, vec3 sampleNormal) { return smoothstep(0.5, 0.9, dot(centerNormal, sampleNormal)); }
@@ -159,15 +186,36 @@ void _Sigma_KernelBasis(vec3 Nv, float worldRadius, out vec3 T, out vec3 B)
     B *= worldRadius * stretch;
 }
 
-// Pixel of a view-space position, false if it is behind the camera or off the image.
-bool _Sigma_ProjectToPixel(vec3 Xv, out ivec2 pixel)
+// The sparse kernel of a pixel in clip space: a sample at disk offset (x, y) is the view position
+// Xv + T' x + B' y, whose clip position is linear in (x, y). The per-pixel rotation is applied to
+// the axes once instead of to every sample.
+struct SigmaKernel
 {
-    vec4 clip = gViewToClip * vec4(Xv, 1.0);
+    vec4 clipCenter;
+    vec4 clipT;
+    vec4 clipB;
+};
+
+SigmaKernel _Sigma_Kernel(vec3 Xv, vec3 Nv, float worldRadius, float angle)
+{
+    vec3 T, B;
+    _Sigma_KernelBasis(Nv, worldRadius, T, B);
+    float c = cos(angle), s = sin(angle);
+    SigmaKernel k;
+    k.clipCenter = gViewToClip * vec4(Xv, 1.0);
+    k.clipT = gViewToClip * vec4(T * c + B * s, 0.0);
+    k.clipB = gViewToClip * vec4(B * c - T * s, 0.0);
+    return k;
+}
+
+// Pixel of the kernel sample at disk offset 'o', false if it is behind the camera or off the image.
+bool _Sigma_KernelSamplePixel(SigmaKernel k, vec2 o, out ivec2 pixel)
+{
+    vec4 clip = k.clipCenter + k.clipT * o.x + k.clipB * o.y;
     pixel = ivec2(0);
     if (!(clip.w > NRD_EPS))
         return false;
-    vec2 uv = (clip.xy / clip.w) * 0.5 + 0.5;
-    vec2 p = floor(uv * vec2(gResourceSize));
+    vec2 p = floor(((clip.xy / clip.w) * 0.5 + 0.5) * vec2(gResourceSize));
     if (any(lessThan(p, vec2(0.0))) || any(greaterThanEqual(p, vec2(gResourceSize))))
         return false;
     pixel = ivec2(p);

@@ -47,7 +47,7 @@ void main()
     vec3 Xv = _NRD_ViewPosition(uv, viewZ);
     vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
     vec3 Nv = _Sigma_ViewNormal(N);
-    float invTolerance = 1.0 / (gPlaneDistanceSensitivity * viewZ);
+    SigmaPlane plane = _Sigma_Plane(uv, viewZ, Nv);
 
     SIGMA_TYPE sum = center;
     float weightSum = 1.0;
@@ -64,29 +64,25 @@ void main()
             float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
             if (_NRD_IsSky(z))
                 continue;
-            vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
-            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance);
+            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) * _Sigma_NeighbourPlaneWeight(plane, i, j, z);
             sum += LoadBlurred(q) * w;
             weightSum += w;
         }
     }
 
     // Sparse rotated disk on the tangent plane.
-    vec3 T, B;
-    _Sigma_KernelBasis(Nv, radius * viewZ / gProjectY, T, B);
-    float angle = _Sigma_KernelAngle(pixel, 0x9e3779b9u);
+    SigmaKernel kernel = _Sigma_Kernel(Xv, Nv, radius * viewZ / gProjectY, _Sigma_KernelAngle(pixel, 0x9e3779b9u));
     for (uint n = 0u; n < SPARSE_SAMPLE_NUM; n++)
     {
-        vec2 o = _Sigma_DiskSample(n, SPARSE_SAMPLE_NUM, angle);
+        vec3 o = kSigmaDisk12[n];
         ivec2 q;
-        if (!_Sigma_ProjectToPixel(Xv + T * o.x + B * o.y, q))
+        if (!_Sigma_KernelSamplePixel(kernel, o.xy, q))
             continue;
         float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
         if (_NRD_IsSky(z))
             continue;
-        vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
         vec3 Ns = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0)).xyz;
-        float w = _Sigma_KernelWeight(dot(o, o)) * _Sigma_PlaneWeight(Xv, Nv, Xs, invTolerance) *
+        float w = o.z * _Sigma_NeighbourPlaneWeight(plane, q.x - pixel.x, q.y - pixel.y, z) *
                   _Sigma_NormalWeight(N, Ns);
         sum += LoadBlurred(q) * w;
         weightSum += w;
