@@ -10,6 +10,7 @@
 #include "InstanceImpl.h"
 
 #include <cmath>
+#include <cstdlib>
 
 namespace nrd
 {
@@ -138,6 +139,13 @@ public:
         c.gMomentSteps0 = {steps[0], steps[1], steps[2], steps[3]};
         c.gMomentSteps1 = {steps[4], steps[5], steps[6], steps[7]};
         c.gMomentSteps2 = {steps[8], 0.0f, 0.0f, 0.0f};
+        float weightSum = 0.0f, weightSquaredSum = 0.0f;
+        for (int i = -int(s.neighborhoodRadius); i <= int(s.neighborhoodRadius); i++)
+        {
+            weightSum += weights[std::abs(i)];
+            weightSquaredSum += weights[std::abs(i)] * weights[std::abs(i)];
+        }
+        c.gLocalMeanNoise = weightSquaredSum / (weightSum * weightSum); // sqrt(sum w^2) / sum w of the 2D kernel.
         c.gHistoryClampSigma = s.historyClampSigma;
         c.gDisocclusionThresholdGrazing =
             s.disocclusionThresholdGrazing > frame.common.disocclusionThreshold ? s.disocclusionThresholdGrazing

@@ -28,6 +28,9 @@
 #define REGION_TILES_Y (GROUP_TILES_Y + 2 * HALO_TILES_Y)
 // Rows of horizontal sums: the group's rows plus RADIUS_MAX above and below.
 #define SUM_ROWS (GROUP_SIZE + 2 * RADIUS_MAX)
+#ifndef TS_HISTORY_REJECTION
+#define TS_HISTORY_REJECTION 2.0
+#endif
 
 shared uint sMask[REGION_TILES_Y][REGION_TILES_X];
 shared float sRowSum[SUM_ROWS][GROUP_SIZE];
@@ -288,9 +291,10 @@ void main()
         float halfWidth = gHistoryClampSigma * sqrt(localVariance);
         float clamped = clamp(history.x, localMean - halfWidth, localMean + halfWidth);
 
-        // History that disagrees with the neighbourhood counts as fewer samples.
-        float discontinuity = (history.x - localMean) / max(halfWidth, 0.001);
-        samples *= exp(-discontinuity * discontinuity / 20.0);
+        // History outside the clamp box (a moving shadow) counts as fewer samples: the distance in
+        // standard errors of the local mean, so that noise alone rarely shortens the history.
+        float outside = max(abs(history.x - localMean) - halfWidth, 0.0) / max(gLocalMeanNoise * sqrt(localVariance), 0.002);
+        samples *= exp(-TS_HISTORY_REJECTION * outside * outside);
 
         // Variance boost while few samples are known: a stronger spatial filter.
         if (samples < 16.0)

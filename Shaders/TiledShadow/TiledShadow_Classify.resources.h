@@ -18,7 +18,7 @@ NRD_CONSTANTS_BEGIN
     NRD_CONSTANT(uint, gDebugView)               // TS_DEBUG_*.
     NRD_CONSTANT(uint, gCounterSlot)             // Counter slot of this frame (0 or 1).
     NRD_CONSTANT(uint, gMethodFrame)             // Frames since creation, from 1.
-    NRD_CONSTANT(uint, gClassifyPad0)
+    NRD_CONSTANT(float, gLocalMeanNoise)         // Standard error of the local mean per unit of sample sigma.
 NRD_CONSTANTS_END
 NRD_INPUT_UINT(0, gIn_Mask)                      // Prepare's output or IN_SHADOW_BITMASK.
 NRD_INPUT(1, gIn_ViewZ)

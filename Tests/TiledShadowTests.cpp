@@ -1,0 +1,598 @@
+// TILED_SHADOW through the Vulkan integration layer on lavapipe, validation on. Synthetic inputs
+// with known answers: random bitmasks (local moments, tile classes), a plane facing the camera
+// crossed by a straight shadow edge whose visibility ramps linearly over the penumbra (noisy input:
+// one Bernoulli(truth) sample per pixel), and extreme inputs (uniform, sky, tiny and odd sizes,
+// non-finite values).
+#include <catch2/catch.hpp>
+
+#include "Metrics.h"
+#include "RHIVulkan.h"
+#include "VulkanTestUtils.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <random>
+
+using namespace nrd;
+using nrd::test::Bindings;
+
+namespace
+{
+
+constexpr Identifier TILED_ID = 4;
+constexpr float kPlaneViewZ = 10.0f;
+constexpr float kSentinel = 2.0f; // Written into the output first; the denoiser writes [0, 1].
+
+// Quality floors: relMSE(noisy) / relMSE(output), about half of what lavapipe measures (printed).
+constexpr double kStaticFactor = 20.0;
+constexpr double kMovingCameraFactor = 8.0;
+constexpr double kSlidingEdgeFactor = 5.0;
+
+enum TileClass : uint32_t
+{
+    TILE_FILTERED,
+    TILE_LIT,
+    TILE_SHADOWED,
+    TILE_SKY,
+};
+
+// One frame's application inputs (visibility: 1 = lit).
+struct Inputs
+{
+    uint32_t width = 0, height = 0;
+    std::vector<float> viewZ, normal, mv, visibility;
+    std::vector<float> truth; // Expected visibility (quality tests).
+
+    Inputs(uint32_t w, uint32_t h) : width(w), height(h)
+    {
+        size_t n = size_t(w) * h;
+        viewZ.assign(n, kPlaneViewZ);
+        normal.resize(n * 4);
+        for (size_t i = 0; i < n; i++)
+        {
+            // World = view (identity camera) looking along +z: the plane faces -z.
+            normal[i * 4 + 0] = 0.5f;
+            normal[i * 4 + 1] = 0.5f;
+            normal[i * 4 + 2] = 0.0f;
+            normal[i * 4 + 3] = 1.0f;
+        }
+        mv.assign(n * 2, 0.0f);
+        visibility.assign(n, 1.0f);
+        truth.assign(n, 1.0f);
+    }
+
+    bool IsLit(uint32_t x, uint32_t y) const { return !(visibility[size_t(y) * width + x] < 0.5f); }
+    bool IsSky(uint32_t x, uint32_t y) const
+    {
+        float z = viewZ[size_t(y) * width + x];
+        return !std::isfinite(z) || z <= 0.0f;
+    }
+};
+
+// IN_SHADOW_BITMASK of 'in': tile (x / 8, y / 4), bit (x % 8) + 8 * (y % 4); outside pixels lit.
+std::vector<uint32_t> PackBitmask(const Inputs& in)
+{
+    uint32_t tilesX = (in.width + 7) / 8, tilesY = (in.height + 3) / 4;
+    std::vector<uint32_t> masks(size_t(tilesX) * tilesY, 0u);
+    for (uint32_t ty = 0; ty < tilesY; ty++)
+        for (uint32_t tx = 0; tx < tilesX; tx++)
+            for (uint32_t b = 0; b < 32; b++)
+            {
+                uint32_t x = tx * 8 + b % 8, y = ty * 4 + b / 8;
+                if (x >= in.width || y >= in.height || in.IsLit(x, y))
+                    masks[size_t(ty) * tilesX + tx] |= 1u << b;
+            }
+    return masks;
+}
+
+// Gaussian-weighted mean of the bits over the (2r + 1)^2 window, pixels outside excluded: the
+// brute-force version of the classification's separable popcount sums.
+double LocalMeanReference(const Inputs& in, int x, int y, int radius)
+{
+    double sum = 0.0, weight = 0.0;
+    for (int j = -radius; j <= radius; j++)
+        for (int i = -radius; i <= radius; i++)
+        {
+            int px = x + i, py = y + j;
+            if (px < 0 || py < 0 || px >= int(in.width) || py >= int(in.height))
+                continue;
+            double w = std::exp(-3.0 * (i * i + j * j) / double((radius + 1) * (radius + 1)));
+            sum += w * (in.IsLit(uint32_t(px), uint32_t(py)) ? 1.0 : 0.0);
+            weight += w;
+        }
+    return sum / weight;
+}
+
+// The classification rule (TiledShadowSettings): uniform 3x5-tile neighbourhood, else all sky.
+std::vector<TileClass> TileClassesReference(const Inputs& in)
+{
+    int tilesX = int(in.width + 7) / 8, tilesY = int(in.height + 3) / 4;
+    std::vector<TileClass> classes(size_t(tilesX) * tilesY);
+    for (int ty = 0; ty < tilesY; ty++)
+        for (int tx = 0; tx < tilesX; tx++)
+        {
+            bool anyLit = false, anyShadowed = false, allSky = true;
+            for (int y = (ty - 2) * 4; y < (ty + 3) * 4; y++)
+                for (int x = (tx - 1) * 8; x < (tx + 2) * 8; x++)
+                {
+                    if (x < 0 || y < 0 || x >= int(in.width) || y >= int(in.height))
+                        continue;
+                    bool lit = in.IsLit(uint32_t(x), uint32_t(y));
+                    anyLit |= lit;
+                    anyShadowed |= !lit;
+                    if (x / 8 == tx && y / 4 == ty)
+                        allSky &= in.IsSky(uint32_t(x), uint32_t(y));
+                }
+            TileClass c = TILE_FILTERED;
+            if (!(anyLit && anyShadowed))
+                c = anyLit ? TILE_LIT : TILE_SHADOWED;
+            else if (allSky)
+                c = TILE_SKY;
+            classes[size_t(ty) * tilesX + tx] = c;
+        }
+    return classes;
+}
+
+// Copies 32-bit words into an R32_UINT texture unchanged (UploadTexture converts from float).
+void UploadWords(lab::VulkanContext& context, lab::LabTexture& texture, const std::vector<uint32_t>& words)
+{
+    REQUIRE(words.size() == size_t(texture.width) * texture.height);
+    rhi::Device& device = context.GetDevice();
+    rhi::BufferDesc stagingDesc = {};
+    stagingDesc.size = words.size() * sizeof(uint32_t);
+    stagingDesc.usage = rhi::BUFFER_USAGE_COPY_SOURCE;
+    stagingDesc.location = rhi::MemoryLocation::HOST_UPLOAD;
+    stagingDesc.name = "bitmask upload";
+    rhi::Buffer* staging = nullptr;
+    REQUIRE(device.CreateBuffer(stagingDesc, staging) == rhi::Result::SUCCESS);
+    memcpy(device.MapBuffer(*staging), words.data(), stagingDesc.size);
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
+    rhi::CommandBuffer& cmd = rhi::GetCommandBuffer(commandBuffer);
+    // WAR against the previous frame's reads; then RAW for the denoiser's reads.
+    rhi::TextureState copyState = {rhi::ACCESS_COPY_DESTINATION, rhi::Layout::COPY_DESTINATION};
+    rhi::TextureBarrier toCopy = {texture.texture, texture.state, copyState};
+    device.CmdBarrier(cmd, {nullptr, 0, nullptr, 0, &toCopy, 1});
+    device.CmdCopyBufferToTexture(cmd, *texture.texture, *staging, 0);
+    rhi::TextureState readState = {rhi::ACCESS_SHADER_READ, rhi::Layout::SHADER_RESOURCE};
+    rhi::TextureBarrier toRead = {texture.texture, copyState, readState};
+    device.CmdBarrier(cmd, {nullptr, 0, nullptr, 0, &toRead, 1});
+    texture.state = readState;
+    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
+    device.DestroyBuffer(staging);
+}
+
+// A camera at x = cameraX (world units) looking along +z, previous one at cameraXPrev.
+CommonSettings CameraSettings(uint32_t frameIndex, float cameraX, float cameraXPrev)
+{
+    CommonSettings s = test::StillCameraSettings(frameIndex);
+    s.worldToViewMatrix[12] = -cameraX;
+    s.worldToViewMatrixPrev[12] = -cameraXPrev;
+    return s;
+}
+
+// One TILED_SHADOW denoiser with its application textures; the output is R32F.
+struct TiledShadowRig
+{
+    lab::VulkanContext& context;
+    Integration integration;
+    uint32_t width = 0, height = 0;
+    lab::LabTexture viewZ, normal, mv, visibility, bitmask, output;
+
+    explicit TiledShadowRig(lab::VulkanContext& c) : context(c) {}
+
+    ~TiledShadowRig()
+    {
+        integration.Destroy();
+        for (lab::LabTexture* t : {&viewZ, &normal, &mv, &visibility, &bitmask, &output})
+            context.DestroyTexture(*t);
+    }
+
+    void Create(uint32_t w, uint32_t h, const TiledShadowSettings& settings = {})
+    {
+        width = w;
+        height = h;
+        MethodDesc methodDesc = {TILED_ID, Method::TILED_SHADOW};
+        DenoiserCreationDesc desc = {};
+        desc.methods = &methodDesc;
+        desc.methodsNum = 1;
+        desc.renderWidth = uint16_t(w);
+        desc.renderHeight = uint16_t(h);
+        IntegrationCreationDesc integrationDesc = context.GetIntegrationCreationDesc();
+        integrationDesc.name = "TILED_SHADOW test";
+        REQUIRE(integration.Create(integrationDesc, desc) == VK_SUCCESS);
+        REQUIRE(integration.SetMethodSettings(TILED_ID, settings) == Result::SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::R32_SFLOAT, w, h, "IN_VIEWZ", viewZ) == VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::RGBA8_UNORM, w, h, "IN_NORMAL_ROUGHNESS", normal) == VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::RG16_SFLOAT, w, h, "IN_MV", mv) == VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::R8_UNORM, w, h, "IN_SHADOW_VISIBILITY", visibility) == VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::R32_UINT, (w + 7) / 8, (h + 3) / 4, "IN_SHADOW_BITMASK", bitmask) ==
+                VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::R32_SFLOAT, w, h, "OUT_SHADOW_TRANSLUCENCY", output) == VK_SUCCESS);
+        ResetOutput();
+    }
+
+    // Fills the output with kSentinel (debug views write every pixel, sky included).
+    void ResetOutput()
+    {
+        std::vector<float> sentinel(size_t(width) * height, kSentinel);
+        REQUIRE(context.UploadTexture(output, sentinel.data(), rhi::Layout::GENERAL) == VK_SUCCESS);
+    }
+
+    void SetSettings(const TiledShadowSettings& settings)
+    {
+        REQUIRE(integration.SetMethodSettings(TILED_ID, settings) == Result::SUCCESS);
+    }
+
+    // Denoises one frame; returns the output.
+    std::vector<float> Frame(const CommonSettings& settings, const Inputs& in)
+    {
+        REQUIRE(context.UploadTexture(viewZ, in.viewZ.data()) == VK_SUCCESS);
+        REQUIRE(context.UploadTexture(normal, in.normal.data()) == VK_SUCCESS);
+        REQUIRE(context.UploadTexture(mv, in.mv.data()) == VK_SUCCESS);
+        REQUIRE(context.UploadTexture(visibility, in.visibility.data()) == VK_SUCCESS);
+        UploadWords(context, bitmask, PackBitmask(in));
+        REQUIRE(integration.SetCommonSettings(settings) == Result::SUCCESS);
+        Bindings bindings = {{ResourceType::IN_VIEWZ, &viewZ},
+                             {ResourceType::IN_NORMAL_ROUGHNESS, &normal},
+                             {ResourceType::IN_MV, &mv},
+                             {ResourceType::IN_SHADOW_VISIBILITY, &visibility},
+                             {ResourceType::IN_SHADOW_BITMASK, &bitmask},
+                             {ResourceType::OUT_SHADOW_TRANSLUCENCY, &output}};
+        REQUIRE(test::DenoiseAndWait(context, integration, bindings) == VK_SUCCESS);
+        std::vector<float> result;
+        REQUIRE(context.ReadbackTexture(output, result) == VK_SUCCESS);
+        return result;
+    }
+
+    std::vector<float> Frame(uint32_t frameIndex, const Inputs& in) { return Frame(test::StillCameraSettings(frameIndex), in); }
+};
+
+// Random visibility with probability 'litProbability' of a lit pixel.
+Inputs RandomInputs(uint32_t w, uint32_t h, uint32_t seed, float litProbability = 0.5f)
+{
+    Inputs in(w, h);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (float& v : in.visibility)
+        v = uniform(rng) < litProbability ? 1.0f : 0.0f;
+    return in;
+}
+
+// A straight shadow edge across the plane; visibility ramps over 2 * penumbraRadius pixels.
+struct EdgeScene
+{
+    uint32_t width = 128, height = 128;
+    float penumbraRadius = 8.0f;
+    float edgeAngle = 0.35f;  // Radians from the vertical.
+    float edgeOffset = 0.0f;  // Pixels from the image centre along the edge normal.
+    float cameraShift = 0.0f; // Camera translation along +x, in pixels at the plane's depth.
+
+    float Truth(uint32_t x, uint32_t y) const
+    {
+        float nx = std::cos(edgeAngle), ny = std::sin(edgeAngle);
+        float d = (float(x) + cameraShift + 0.5f - 0.5f * float(width)) * nx + (float(y) + 0.5f - 0.5f * float(height)) * ny -
+                  edgeOffset;
+        return std::min(std::max((d + penumbraRadius) / (2.0f * penumbraRadius), 0.0f), 1.0f);
+    }
+
+    // World units of a camera shift in pixels (|P00| = 1: one pixel is 2 * viewZ / width).
+    float CameraX(float shiftPixels) const { return shiftPixels * 2.0f * kPlaneViewZ / float(width); }
+
+    Inputs Make(uint32_t seed) const
+    {
+        Inputs in(width, height);
+        std::mt19937 rng(seed);
+        std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+        for (uint32_t y = 0; y < height; y++)
+            for (uint32_t x = 0; x < width; x++)
+            {
+                size_t i = size_t(y) * width + x;
+                in.truth[i] = Truth(x, y);
+                in.visibility[i] = uniform(rng) < in.truth[i] ? 1.0f : 0.0f;
+            }
+        return in;
+    }
+};
+
+double RelMse(const std::vector<float>& test, const std::vector<float>& truth, uint32_t w, uint32_t h)
+{
+    nrdlab::Image a(w, h, 1), b(w, h, 1);
+    a.pixels = test;
+    b.pixels = truth;
+    return nrdlab::RelMSE(a, b);
+}
+
+size_t CountNonFinite(const std::vector<float>& values)
+{
+    return size_t(std::count_if(values.begin(), values.end(), [](float v) { return !std::isfinite(v); }));
+}
+
+} // namespace
+
+TEST_CASE("TILED_SHADOW local moments from bitmasks equal a brute-force 17x17 reference", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+
+    for (bool isBitmaskInput : {false, true})
+    {
+        for (uint32_t radius : {8u, 3u})
+        {
+            for (auto size : {std::make_pair(69u, 37u), std::make_pair(16u, 16u), std::make_pair(5u, 3u)})
+            {
+                INFO((isBitmaskInput ? "app bitmask" : "prepare pass") << ", radius " << radius << ", " << size.first
+                                                                       << "x" << size.second);
+                TiledShadowSettings settings;
+                settings.isBitmaskInput = isBitmaskInput;
+                settings.neighborhoodRadius = radius;
+                settings.debugView = TiledShadowDebug::LOCAL_MEAN;
+                TiledShadowRig rig(*context);
+                rig.Create(size.first, size.second, settings);
+                Inputs in = RandomInputs(size.first, size.second, 11 + radius + size.first, 0.6f);
+                std::vector<float> mean = rig.Frame(0, in);
+                std::vector<float> expected(mean.size());
+                for (uint32_t y = 0; y < in.height; y++)
+                    for (uint32_t x = 0; x < in.width; x++)
+                        expected[size_t(y) * in.width + x] = float(LocalMeanReference(in, int(x), int(y), int(radius)));
+                CHECK(test::CountMismatches(mean, expected, 2e-6f, 1e-5f) == 0);
+            }
+        }
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("TILED_SHADOW gives bit-identical output from the prepare pass and from app-written bitmasks", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+
+    EdgeScene scene;
+    scene.width = 75;
+    scene.height = 45;
+    scene.penumbraRadius = 6.0f;
+    TiledShadowSettings prepared, written;
+    written.isBitmaskInput = true;
+    TiledShadowRig a(*context), b(*context);
+    a.Create(scene.width, scene.height, prepared);
+    b.Create(scene.width, scene.height, written);
+    for (uint32_t frame = 0; frame < 4; frame++)
+    {
+        INFO("frame " << frame);
+        scene.cameraShift = float(frame);
+        Inputs in = scene.Make(100 + frame);
+        CommonSettings settings = CameraSettings(frame, scene.CameraX(float(frame)), scene.CameraX(float(frame) - 1.0f));
+        std::vector<float> fromPrepare = a.Frame(settings, in);
+        std::vector<float> fromBitmask = b.Frame(settings, in);
+        REQUIRE(fromPrepare.size() == fromBitmask.size());
+        CHECK(memcmp(fromPrepare.data(), fromBitmask.data(), fromPrepare.size() * sizeof(float)) == 0);
+        CHECK(CountNonFinite(fromPrepare) == 0);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("TILED_SHADOW skips exactly the tiles with uniform neighbourhoods", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+
+    // Mostly lit: a noisy penumbra ring around a shadowed disc, a band of sky at the top.
+    const uint32_t w = 120, h = 84;
+    Inputs in(w, h);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+        {
+            size_t i = size_t(y) * w + x;
+            float d = std::sqrt((float(x) - 80.0f) * (float(x) - 80.0f) + (float(y) - 50.0f) * (float(y) - 50.0f));
+            float truth = std::min(std::max((d - 24.0f) / 8.0f, 0.0f), 1.0f);
+            in.truth[i] = truth;
+            in.visibility[i] = uniform(rng) < truth ? 1.0f : 0.0f;
+            if (y < 10)
+            {
+                in.viewZ[i] = std::numeric_limits<float>::infinity();
+                in.visibility[i] = x < 60 ? 1.0f : float((x + y) & 1); // Noisy sky: not uniform on the right.
+            }
+        }
+    std::vector<TileClass> expected = TileClassesReference(in);
+    uint32_t tilesX = (w + 7) / 8, tilesY = (h + 3) / 4;
+    uint32_t expectedCounts[4] = {};
+    for (TileClass c : expected)
+        expectedCounts[c]++;
+    std::printf("TILED_SHADOW tile classes of %ux%u (%u tiles): filtered %u, lit %u, shadowed %u, sky %u\n", w, h,
+                tilesX * tilesY, expectedCounts[TILE_FILTERED], expectedCounts[TILE_LIT], expectedCounts[TILE_SHADOWED],
+                expectedCounts[TILE_SKY]);
+    REQUIRE(expectedCounts[TILE_LIT] > tilesX * tilesY / 3);
+    REQUIRE(expectedCounts[TILE_SHADOWED] > 0);
+    REQUIRE(expectedCounts[TILE_SKY] > 0);
+    REQUIRE(expectedCounts[TILE_FILTERED] > 0);
+
+    TiledShadowSettings settings;
+    settings.debugView = TiledShadowDebug::TILE_CLASS;
+    TiledShadowRig rig(*context);
+    rig.Create(w, h, settings);
+    std::vector<float> classes = rig.Frame(0, in);
+    uint32_t counts[4] = {}, mismatches = 0;
+    for (uint32_t ty = 0; ty < tilesY; ty++)
+        for (uint32_t tx = 0; tx < tilesX; tx++)
+        {
+            TileClass c = expected[size_t(ty) * tilesX + tx];
+            // Every pixel of the tile shows its class.
+            for (uint32_t y = ty * 4; y < std::min(ty * 4 + 4, h); y++)
+                for (uint32_t x = tx * 8; x < std::min(tx * 8 + 8, w); x++)
+                    mismatches += classes[size_t(y) * w + x] != float(c) * 0.25f;
+            counts[uint32_t(classes[size_t(ty * 4) * w + tx * 8] * 4.0f + 0.5f) & 3u]++;
+        }
+    CHECK(mismatches == 0);
+    for (uint32_t c = 0; c < 4; c++)
+        CHECK(counts[c] == expectedCounts[c]);
+
+    // The denoised output: exact values in skipped tiles, sky untouched.
+    settings.debugView = TiledShadowDebug::NONE;
+    rig.SetSettings(settings);
+    rig.ResetOutput();
+    std::vector<float> output;
+    for (uint32_t frame = 1; frame < 4; frame++)
+        output = rig.Frame(frame, in);
+    uint32_t wrong = 0;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+        {
+            float v = output[size_t(y) * w + x];
+            TileClass c = expected[size_t(y / 4) * tilesX + x / 8];
+            if (in.IsSky(x, y))
+                wrong += v != kSentinel;
+            else if (c == TILE_LIT)
+                wrong += v != 1.0f;
+            else if (c == TILE_SHADOWED)
+                wrong += v != 0.0f;
+            else
+                wrong += !(v >= 0.0f && v <= 1.0f);
+        }
+    CHECK(wrong == 0);
+
+    // Without tile skipping every non-sky tile is filtered.
+    settings.enableTileSkipping = false;
+    settings.debugView = TiledShadowDebug::TILE_CLASS;
+    rig.SetSettings(settings);
+    classes = rig.Frame(4, in);
+    uint32_t filtered = 0;
+    for (uint32_t ty = 0; ty < tilesY; ty++)
+        for (uint32_t tx = 0; tx < tilesX; tx++)
+            filtered += classes[size_t(ty * 4) * w + tx * 8] == 0.0f;
+    CHECK(filtered == tilesX * tilesY - 2 * tilesX); // Tile rows 0 and 1 are all sky: still skipped.
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("TILED_SHADOW stays finite on extreme inputs", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+
+    for (auto size : {std::make_pair(1u, 1u), std::make_pair(7u, 5u), std::make_pair(33u, 17u), std::make_pair(64u, 64u)})
+    {
+        uint32_t w = size.first, h = size.second;
+        for (int content = 0; content < 5; content++)
+        {
+            const char* names[] = {"all lit", "all shadowed", "sky everywhere", "noise", "non-finite values"};
+            INFO(names[content] << " at " << w << "x" << h);
+            Inputs in = RandomInputs(w, h, 3 + content, 0.5f);
+            for (size_t i = 0; i < in.viewZ.size(); i++)
+            {
+                if (content == 0)
+                    in.visibility[i] = 1.0f;
+                else if (content == 1)
+                    in.visibility[i] = 0.0f;
+                else if (content == 2)
+                    in.viewZ[i] = (i % 3 == 0) ? inf : (i % 3 == 1 ? 1e9f : -1.0f);
+                else if (content == 4)
+                {
+                    // NaN / Inf / huge / zero in every input, pixel by pixel.
+                    if (i % 5 == 0)
+                        in.viewZ[i] = nan;
+                    if (i % 7 == 1)
+                        in.viewZ[i] = 0.0f;
+                    if (i % 4 == 2)
+                        in.normal[i * 4 + 0] = in.normal[i * 4 + 1] = in.normal[i * 4 + 2] = 0.5f; // Zero-length normal.
+                    if (i % 3 == 0)
+                        in.mv[i * 2] = inf;
+                    if (i % 6 == 1)
+                        in.mv[i * 2 + 1] = nan;
+                    if (i % 2 == 0)
+                        in.mv[i * 2] = 1e4f;
+                }
+            }
+            for (bool isBitmaskInput : {false, true})
+            {
+                TiledShadowSettings settings;
+                settings.isBitmaskInput = isBitmaskInput;
+                TiledShadowRig rig(*context);
+                rig.Create(w, h, settings);
+                if (content == 4)
+                {
+                    // Also a motion-vector scale that sends everything off screen.
+                    CommonSettings s = CameraSettings(0, 0.0f, 0.0f);
+                    rig.Frame(s, in);
+                }
+                for (uint32_t frame = 0; frame < 3; frame++)
+                {
+                    CommonSettings s = CameraSettings(frame, 0.1f * float(frame), 0.1f * float(frame) - 0.1f);
+                    if (content == 4)
+                        s.motionVectorScale[0] = s.motionVectorScale[1] = 1.0f;
+                    std::vector<float> out = rig.Frame(s, in);
+                    CHECK(CountNonFinite(out) == 0);
+                    for (size_t i = 0; i < out.size(); i++)
+                    {
+                        bool sky = in.IsSky(uint32_t(i % w), uint32_t(i / w)) || !(in.viewZ[i] <= 500000.0f);
+                        if (sky)
+                            CHECK(out[i] == kSentinel);
+                        else if (content == 0)
+                            CHECK(out[i] == 1.0f);
+                        else if (content == 1)
+                            CHECK(out[i] == 0.0f);
+                        else
+                            CHECK((out[i] >= 0.0f && out[i] <= 1.0f));
+                    }
+                }
+            }
+        }
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("TILED_SHADOW denoises a noisy penumbra well below the input's error", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+
+    auto run = [&](const char* what, EdgeScene scene, float cameraSpeed, float edgeSpeed, bool worldMotion,
+                   double floor) {
+        TiledShadowRig rig(*context);
+        rig.Create(scene.width, scene.height);
+        const uint32_t frames = 16, warmUp = 8;
+        double noisyError = 0.0, outputError = 0.0;
+        for (uint32_t frame = 0; frame < frames; frame++)
+        {
+            scene.cameraShift = cameraSpeed * float(frame);
+            scene.edgeOffset = edgeSpeed * float(frame);
+            Inputs in = scene.Make(1000 + frame);
+            CommonSettings s = CameraSettings(frame, scene.CameraX(scene.cameraShift),
+                                              scene.CameraX(scene.cameraShift - cameraSpeed));
+            if (worldMotion)
+            {
+                // A static world seen by a moving camera: zero world-space motion.
+                s.isMotionVectorInWorldSpace = true;
+                s.motionVectorScale[2] = 1.0f;
+            }
+            else
+            {
+                // Screen-space motion of the camera: uvPrev = uv + mv.
+                for (size_t i = 0; i < in.mv.size() / 2; i++)
+                    in.mv[i * 2] = cameraSpeed / float(scene.width);
+            }
+            std::vector<float> out = rig.Frame(s, in);
+            REQUIRE(CountNonFinite(out) == 0);
+            if (frame >= warmUp)
+            {
+                noisyError += RelMse(in.visibility, in.truth, scene.width, scene.height);
+                outputError += RelMse(out, in.truth, scene.width, scene.height);
+            }
+        }
+        double factor = noisyError / outputError;
+        std::printf("TILED_SHADOW %s: relMSE noisy %.4f, denoised %.5f, factor %.1f (floor %.1f)\n", what,
+                    noisyError / (frames - warmUp), outputError / (frames - warmUp), factor, floor);
+        CHECK(factor >= floor);
+    };
+
+    EdgeScene scene;
+    run("still camera", scene, 0.0f, 0.0f, false, kStaticFactor);
+    run("moving camera, 2D motion", scene, 1.5f, 0.0f, false, kMovingCameraFactor);
+    run("moving camera, 3D motion", scene, 1.5f, 0.0f, true, kMovingCameraFactor);
+    run("sliding shadow edge", scene, 0.0f, 0.5f, false, kSlidingEdgeFactor);
+    CHECK(context->ValidationMessageCount() == 0);
+}
