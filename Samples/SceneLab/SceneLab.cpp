@@ -420,7 +420,7 @@ struct SceneLab::Impl
         k.gSkyGround = Vec4(scene.sky.ground, 0.0f);
         k.gSize = {p.width, p.height, p.frameIndex, seed};
         k.gCounts = {uint32_t(scene.objects.size()), uint32_t(scene.lights.size()), p.lightIndex, signals};
-        k.gOptions = {p.bounces, p.frameIndex > 0 ? 1u : 0u, 0u, 0u};
+        k.gOptions = {p.bounces, p.frameIndex > 0 ? 1u : 0u, p.directLighting ? 1u : 0u, 0u};
         std::memcpy(device.MapBuffer(*constants), &k, sizeof(k));
 
         auto* objs = static_cast<gpu::LabObject*>(device.MapBuffer(*objects));
@@ -510,7 +510,8 @@ struct SceneLab::Impl
         {
             const Texture& t = textures[b];
             offsets.push_back(total);
-            total += uint64_t(t.width) * t.height * (IsUintBinding(b) ? 4 : 16);
+            // Copy offsets must be multiples of the texel size: keep every region 16-byte aligned.
+            total += (uint64_t(t.width) * t.height * (IsUintBinding(b) ? 4 : 16) + 15) & ~uint64_t(15);
             list.push_back(&textures[b]);
         }
         if (total == 0)
@@ -624,7 +625,7 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
             key += "|light=" + std::to_string(p.lightIndex);
         if (part == PART_DIFFUSE || part == PART_SPECULAR || part == PART_GRADIENTS || part == PART_DIFFUSE_TRUTH ||
             part == PART_SPECULAR_TRUTH)
-            key += "|bounces=" + std::to_string(p.bounces);
+            key += "|bounces=" + std::to_string(p.bounces) + "|direct=" + std::to_string(p.directLighting ? 1 : 0);
         if (part >= PART_SHADOW_TRUTH)
             key += "|spp=" + std::to_string(p.truthSpp);
         std::string prefix = (scene.name.empty() ? std::string("scene") : scene.name) + "-" + std::to_string(w) +

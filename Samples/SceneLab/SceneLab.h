@@ -71,6 +71,7 @@ struct RenderParams
     SignalMask signals = SIGNAL_SHADOW;
     uint32_t lightIndex = 0;       // Light of SIGNAL_SHADOW (index into Scene::lights).
     uint32_t bounces = 1;          // Diffuse / specular: 1 (direct light at the bounce hit) or 2.
+    bool directLighting = true;    // Diffuse / specular include the primary surface's direct light.
     bool useCache = true;          // Read / write the disk cache (if the lab has a cache directory).
 };
 
@@ -130,9 +131,13 @@ struct FrameData
 
     // SIGNAL_DIFFUSE / SIGNAL_SPECULAR: 4 ch, rgb radiance, .w hit distance of the bounce ray
     // (kNoHitDistance if it left the scene). Sky pixels: (0, 0, 0, kNoHitDistance).
-    //   diffuse: incoming radiance along one cosine-sampled direction, NOT multiplied by the
-    //     primary's albedo (demodulated; its expectation is irradiance / pi).
-    //   specular: GGX VNDF sample weighted F * G2 / G1 and divided by specularAlbedo.
+    // Both are demodulated: final colour = albedo * diffuse + specularAlbedo * specular.
+    //   diffuse: [direct light of every light, 1 shadow ray each, / pi] + incoming radiance along
+    //     one cosine-sampled direction (emission + direct light at the hit [+ 1 more bounce] or
+    //     sky). NOT multiplied by the primary's albedo: its expectation is irradiance / pi.
+    //   specular: ([GGX direct light of every light] + one GGX VNDF-sampled reflection weighted
+    //     F * G2 / G1) / specularAlbedo. Direct light uses roughness >= 0.25 (see the README).
+    //   [..] only with RenderParams::directLighting (default).
     // Truth .w: mean hit distance over the samples that hit something (kNoHitDistance if none).
     Image diffuse, diffuseTruth;
     Image specular, specularTruth;

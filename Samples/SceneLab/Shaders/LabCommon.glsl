@@ -91,9 +91,12 @@ vec3 SampleCone(vec2 u, float cosMax)
 // Smallest alpha: below it the lobe is a mirror for all practical purposes.
 #define LAB_MIN_ALPHA 1e-4
 
-// Smallest alpha at secondary hits (roughness 0.25): next-event estimation on a near-mirror is a
-// firefly generator that would keep the ground truth from converging (path regularization).
-#define LAB_SECONDARY_MIN_ALPHA 0.0625
+// Path regularization: next-event estimation on a near-mirror lobe produces rare, huge samples
+// that keep the ground truth from converging. The GGX lobe used for direct light is therefore at
+// least this rough: roughness 0.25 at the primary surface, 0.5 at bounce hits (seen through a
+// random bounce ray, where a small highlight is found only by chance).
+#define LAB_DIRECT_MIN_ALPHA 0.0625
+#define LAB_SECONDARY_MIN_ALPHA 0.25
 
 vec3 FresnelSchlick(vec3 F0, float VoH)
 {
@@ -142,6 +145,19 @@ vec3 SpecularAlbedo(vec3 F0, float NoV, float linearRoughness)
     float a004 = min(r.x * r.x, exp2(-9.28 * NoV)) * r.x + r.y;
     vec2 ab = vec2(-1.04, 1.04) * a004 + r.zw;
     return clamp(F0 * ab.x + ab.y, vec3(0.01), vec3(1.0));
+}
+
+// GGX specular BRDF (Schlick Fresnel, height-correlated Smith), without the cosine.
+vec3 EvalSpecular(vec3 N, vec3 V, vec3 L, vec3 F0, float alpha)
+{
+    float NoL = dot(N, L);
+    float NoV = dot(N, V);
+    if (NoL <= 0.0 || NoV <= 0.0)
+        return vec3(0.0);
+    vec3 H = normalize(V + L);
+    float NoH = max(dot(N, H), 0.0);
+    float G2 = 1.0 / (1.0 + SmithLambda(NoV, alpha) + SmithLambda(NoL, alpha));
+    return FresnelSchlick(F0, dot(V, H)) * (GgxD(NoH, alpha) * G2 / (4.0 * NoV * NoL));
 }
 
 // Lambert + GGX (Schlick Fresnel, height-correlated Smith) times cos(N, L).

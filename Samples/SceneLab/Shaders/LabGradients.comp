@@ -89,7 +89,10 @@ void main()
     Surface sPrev = GetSurface(hp);
     Surface sCur = GetSurface(MoveToThisFrame(hp));
     vec3 VPrev = -dir; // exactly what LabPrimary used on the previous frame
-    vec3 VCur = normalize(c.gCameraPos.xyz - sCur.pos);
+    // A still camera looking at a still surface sees it from the same direction: reuse the exact
+    // vector, so an unchanged frame gives exactly zero gradients.
+    bool sameView = isStatic && all(equal(c.gCameraPos.xyz, c.gCameraPosPrev.xyz));
+    vec3 VCur = sameView ? VPrev : normalize(c.gCameraPos.xyz - sCur.pos);
 
     uint rngA = InitRng(uvec2(q), prevFrame, 0u, seed, LAB_STREAM_DIFFUSE);
     uint rngB = rngA;

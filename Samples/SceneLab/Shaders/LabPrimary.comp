@@ -41,7 +41,6 @@ void main()
     if (inside)
     {
         ivec2 ip = ivec2(pixel);
-        vec2 uv = (vec2(pixel) + 0.5) / vec2(c.gSize.xy);
         vec3 origin, dir;
         PrimaryRay(pixel, 0u, origin, dir);
         Hit h = TraceClosest(origin, dir, LAB_NO_HIT, 0u);
@@ -49,8 +48,9 @@ void main()
         if (h.object < 0)
         {
             // Sky: far viewZ, camera-only motion (a direction reprojects with the rotation alone).
-            vec2 uvPrev;
-            vec2 mv = ProjectUv(vec4(dir, 0.0), 1u, uvPrev) ? uvPrev - uv : vec2(0.0);
+            vec2 uvPrev, uvCur;
+            bool inFront = ProjectUv(vec4(dir, 0.0), 0u, uvCur);
+            vec2 mv = ProjectUv(vec4(dir, 0.0), 1u, uvPrev) && inFront ? uvPrev - uvCur : vec2(0.0);
             imageStore(gOut_GBuffer0, ip, vec4(LAB_SKY_VIEWZ, mv, -1.0));
             imageStore(gOut_NormalRoughness, ip, NRD_FrontEnd_PackNormalAndRoughness(-dir, 1.0));
             imageStore(gOut_Mv3d, ip, vec4(0.0));
@@ -75,10 +75,12 @@ void main()
             vec3 V = -dir;
             float viewZ = ViewZ(h.pos, 0u);
 
-            // Motion: where this surface point was on the previous frame.
+            // Motion: where this surface point was on the previous frame. Both ends are projections
+            // (not the pixel centre), so a still camera on a still surface gives exactly 0.
             vec3 posPrev = gObjects[o].info.z != 0u ? h.pos : ToWorldPoint(o, 1u, h.localPos);
-            vec2 uvPrev;
-            vec2 mv = ProjectUv(vec4(posPrev, 1.0), 1u, uvPrev) ? uvPrev - uv : vec2(0.0);
+            vec2 uvPrev, uvCur;
+            bool inFront = ProjectUv(vec4(h.pos, 1.0), 0u, uvCur);
+            vec2 mv = ProjectUv(vec4(posPrev, 1.0), 1u, uvPrev) && inFront ? uvPrev - uvCur : vec2(0.0);
 
             imageStore(gOut_GBuffer0, ip, vec4(viewZ, mv, float(o)));
             imageStore(gOut_NormalRoughness, ip, NRD_FrontEnd_PackNormalAndRoughness(s.N, s.linearRoughness));

@@ -459,39 +459,72 @@ vec3 IncomingRadiance(vec3 from, vec3 fromN, vec3 dir, uint slot, inout uint rng
     return L;
 }
 
-// Diffuse: one cosine-sampled ray; the Lambert weight (albedo) is left out (demodulated), so the
-// value is the incoming radiance, whose expectation is irradiance / pi.
+// Direct light at the primary surface from every light (one sample and one shadow ray each),
+// demodulated: diffuse part / diffuse albedo (x) and specular part / specular albedo (y).
+// Specular uses alpha >= LAB_DIRECT_MIN_ALPHA (next-event estimation of a near-mirror lobe would
+// not converge); the reflection ray of SpecularSample never sees lights.
+vec3 DirectDiffuse(Surface s, uint slot, inout uint rng)
+{
+    vec3 sum = vec3(0.0);
+    for (uint li = 0u; li < c.gCounts.y; li++)
+    {
+        LightSample ls = SampleLight(li, slot, s.pos, s.N, Next2(rng));
+        if (dot(ls.E, ls.E) > 0.0)
+            sum += ls.E * (Visibility(ls, s.pos, s.N, slot) / LAB_PI);
+    }
+    return sum;
+}
+
+vec3 DirectSpecular(Surface s, vec3 V, uint slot, inout uint rng)
+{
+    vec3 sum = vec3(0.0);
+    float alpha = max(s.linearRoughness * s.linearRoughness, LAB_DIRECT_MIN_ALPHA);
+    for (uint li = 0u; li < c.gCounts.y; li++)
+    {
+        LightSample ls = SampleLight(li, slot, s.pos, s.N, Next2(rng));
+        vec3 f = EvalSpecular(s.N, V, ls.L, s.F0, alpha);
+        if (dot(ls.E, ls.E) > 0.0 && dot(f, f) > 0.0)
+            sum += f * ls.E * Visibility(ls, s.pos, s.N, slot);
+    }
+    float NoV = max(dot(s.N, V), 1e-4);
+    return sum / SpecularAlbedo(s.F0, NoV, s.linearRoughness);
+}
+
+// Diffuse: direct light (if c.gOptions.z != 0) + one cosine-sampled ray; the Lambert weight
+// (albedo) is left out (demodulated), so the value is irradiance / pi in expectation.
 vec4 DiffuseSample(Surface s, uint slot, inout uint rng)
 {
+    vec3 direct = c.gOptions.z != 0u ? DirectDiffuse(s, slot, rng) : vec3(0.0);
     vec3 dir = BasisFromNormal(s.N) * SampleCosine(Next2(rng));
     float hitDistance;
     vec3 L = IncomingRadiance(s.pos, s.N, dir, slot, rng, hitDistance);
-    return vec4(L, hitDistance);
+    return vec4(direct + L, hitDistance);
 }
 
-// Specular: one GGX VNDF-sampled reflection, weight F * G2 / G1, divided by the specular
-// directional albedo (demodulated). Rays that end below the horizon contribute 0 (hit distance
-// NRD_FP16_MAX).
+// Specular: direct light (if c.gOptions.z != 0) + one GGX VNDF-sampled reflection, weight
+// F * G2 / G1, all divided by the specular directional albedo (demodulated). Reflections that end
+// below the horizon contribute 0 (hit distance NRD_FP16_MAX).
 vec4 SpecularSample(Surface s, vec3 V, uint slot, inout uint rng)
 {
+    vec3 direct = c.gOptions.z != 0u ? DirectSpecular(s, V, slot, rng) : vec3(0.0);
     float alpha = max(s.linearRoughness * s.linearRoughness, LAB_MIN_ALPHA);
     mat3 tbn = BasisFromNormal(s.N);
     vec3 Ve = V * tbn; // tangent space (transpose multiply)
     vec2 u = Next2(rng);
     if (Ve.z <= 1e-6)
-        return vec4(0.0, 0.0, 0.0, NRD_FP16_MAX);
+        return vec4(direct, NRD_FP16_MAX);
     vec3 H = tbn * SampleGgxVndf(Ve, alpha, u);
     vec3 L = reflect(-V, H);
     float NoL = dot(s.N, L);
     if (NoL <= 0.0)
-        return vec4(0.0, 0.0, 0.0, NRD_FP16_MAX);
+        return vec4(direct, NRD_FP16_MAX);
     float NoV = Ve.z;
     float lambdaV = SmithLambda(NoV, alpha);
     float weightG = (1.0 + lambdaV) / (1.0 + lambdaV + SmithLambda(NoL, alpha));
     vec3 weight = FresnelSchlick(s.F0, dot(V, H)) * weightG / SpecularAlbedo(s.F0, NoV, s.linearRoughness);
     float hitDistance;
     vec3 Li = IncomingRadiance(s.pos, s.N, L, slot, rng, hitDistance);
-    return vec4(Li * weight, hitDistance);
+    return vec4(direct + Li * weight, hitDistance);
 }
 
 #endif

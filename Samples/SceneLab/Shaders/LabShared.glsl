@@ -90,7 +90,7 @@ struct LabConstants
     vec4 gSkyGround;
     uvec4 gSize;           // width, height, frame index, seed
     uvec4 gCounts;         // objects, lights, shadow light index, signal bits
-    uvec4 gOptions;        // bounces (1 or 2), has previous frame (0/1), 0, 0
+    uvec4 gOptions;        // bounces (1 or 2), has previous frame (0/1), direct lighting (0/1), 0
 };
 
 // Push constants of LabTruth: which samples this dispatch adds.

@@ -1,0 +1,649 @@
+// Scene lab: scene loading and its errors, animation, camera conventions, and the path tracer's
+// outputs on lavapipe (determinism, SIGMA packing vs the visibility mask, gradients, truth
+// convergence, cache). Sizes are small so the whole file runs in a couple of minutes on 2 CPU cores.
+#include <catch2/catch.hpp>
+
+#include "Metrics.h"
+#include "SceneLab.h"
+#include "VulkanContext.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+using namespace nrdlab;
+
+namespace
+{
+
+// One device and one lab for the whole file (pipeline compilation is the slow part on a CPU).
+struct LabFixture
+{
+    nrd::lab::VulkanContext vk;
+    std::unique_ptr<SceneLab> lab;
+
+    LabFixture()
+    {
+        nrd::lab::VulkanContextDesc desc;
+        desc.quiet = true;
+        if (vk.Create(desc) == VK_SUCCESS)
+            lab.reset(new SceneLab(vk));
+    }
+};
+
+SceneLab& Lab()
+{
+    static LabFixture fixture;
+    REQUIRE(fixture.lab);
+    REQUIRE(fixture.lab->IsValid());
+    return *fixture.lab;
+}
+
+Scene LoadBuiltin(const std::string& name)
+{
+    Scene scene;
+    std::string error;
+    INFO(name << ": " << error);
+    REQUIRE(LoadScene(name, scene, error));
+    return scene;
+}
+
+std::string LoadError(const std::string& text)
+{
+    Scene scene;
+    std::string error;
+    CHECK_FALSE(LoadScene(text, scene, error));
+    return error;
+}
+
+std::string ReadText(const std::string& path)
+{
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+FrameData Render(const Scene& scene, RenderParams params)
+{
+    FrameData frame;
+    std::string error;
+    params.useCache = false;
+    INFO(error);
+    REQUIRE(Lab().Render(scene, params, frame, error));
+    return frame;
+}
+
+bool AllFinite(const Image& image)
+{
+    for (float v : image.pixels)
+        if (!std::isfinite(v))
+            return false;
+    return true;
+}
+
+Image Channels(const Image& src, uint32_t first, uint32_t num)
+{
+    Image dst(src.width, src.height, num);
+    for (size_t p = 0; p < src.pixelCount(); p++)
+        for (uint32_t ch = 0; ch < num; ch++)
+            dst.pixels[p * num + ch] = src.pixels[p * src.channels + first + ch];
+    return dst;
+}
+
+} // namespace
+
+// ------------------------------------------------------------------------------------------------
+// Scenes (CPU)
+
+TEST_CASE("every built-in scene loads, has 32 to 64 frames and a light", "[scenelab]")
+{
+    std::vector<std::string> names = GetBuiltinSceneNames();
+    for (const char* required : {"static", "camera_translation", "camera_rotation", "moving_occluder", "light_switch",
+                                 "moving_light", "thin_geometry", "grazing_floor", "roughness_sweep", "sky",
+                                 "disocclusion"})
+        CHECK(std::find(names.begin(), names.end(), required) != names.end());
+    for (const std::string& name : names)
+    {
+        Scene scene = LoadBuiltin(name);
+        INFO(name);
+        CHECK(scene.frameNum >= 32);
+        CHECK(scene.frameNum <= 64);
+        CHECK_FALSE(scene.lights.empty());
+        CHECK_FALSE(scene.objects.empty());
+        CHECK_FALSE(scene.description.empty());
+    }
+}
+
+TEST_CASE("scene errors name the JSON path of the bad value", "[scenelab]")
+{
+    const std::string base = R"({ "camera": { "position": [0, 1, 5], "target": [0, 0, 0] },
+        "objects": [ { "type": "plane" }, { "type": "sphere", "radius": 1, "material": { "roughness": 0.5 } } ],
+        "lights": [ { "type": "sun", "direction": [0, 1, 0] } ] })";
+    Scene ok;
+    std::string error;
+    REQUIRE(LoadScene(base, ok, error));
+    CHECK(ok.objects.size() == 2);
+
+    auto replaced = [&](const std::string& from, const std::string& to) {
+        std::string s = base;
+        size_t at = s.find(from);
+        REQUIRE(at != std::string::npos);
+        return s.replace(at, from.size(), to);
+    };
+
+    CHECK(LoadError(replaced("\"roughness\": 0.5", "\"roughness\": \"x\"")) ==
+          "objects[1].material.roughness: expected number in [0, 1], got \"x\"");
+    CHECK(LoadError(replaced("\"roughness\": 0.5", "\"roughness\": 1.5")) ==
+          "objects[1].material.roughness: expected number in [0, 1], got 1.5");
+    CHECK(LoadError(replaced("\"radius\": 1", "\"radus\": 1")).find("objects[1].radus: unknown key (did you mean "
+                                                                   "\"radius\"?)") == 0);
+    CHECK(LoadError(replaced("\"type\": \"sphere\"", "\"type\": \"cone\"")).find("objects[1].type: expected") == 0);
+    CHECK(LoadError(replaced("\"direction\": [0, 1, 0]", "\"direction\": [0, 1]")).find("lights[0].direction:") == 0);
+    CHECK(LoadError(replaced("\"direction\": [0, 1, 0]", "\"direction\": [0, 0, 0]")).find("lights[0].direction:") ==
+          0);
+    CHECK(LoadError(replaced("\"camera\"", "\"camra\"")).find("camra: unknown key") == 0);
+    CHECK(LoadError(replaced("\"type\": \"sun\"", "\"type\": \"sun\", \"keyframes\": [ { \"frame\": 4 }, { \"frame\": "
+                                                  "2 } ]"))
+              .find("lights[0].keyframes[1].frame: keyframes must have increasing frames") == 0);
+    CHECK(LoadError(replaced("[0, 1, 5]", "[0, 1, 5")).find("JSON syntax error at line 1") != std::string::npos);
+    CHECK(LoadError("no_such_scene_file").find("cannot read scene file") == 0);
+}
+
+TEST_CASE("a scene file with a typo or damage never crashes the loader", "[scenelab]")
+{
+    // Every single-character deletion of a small scene: either it loads or it says why.
+    const std::string text = ReadText(GetBuiltinScenesDirectory() + "/sky.json");
+    REQUIRE(text.size() > 100);
+    uint32_t errors = 0;
+    for (size_t i = 0; i < text.size(); i += 7)
+    {
+        std::string damaged = text;
+        damaged.erase(i, 1);
+        Scene scene;
+        std::string error;
+        if (!LoadScene(damaged, scene, error))
+        {
+            CHECK_FALSE(error.empty());
+            errors++;
+        }
+    }
+    CHECK(errors > 0);
+}
+
+TEST_CASE("keyframes interpolate linearly, hold at the ends, and switches step", "[scenelab]")
+{
+    Track<float> t;
+    t.value = 7.0f;
+    CHECK(Evaluate(t, 3.0f) == 7.0f); // no keys: the static value
+    t.keys = {{10, 1.0f}, {20, 3.0f}};
+    CHECK(Evaluate(t, 0.0f) == 1.0f);
+    CHECK(Evaluate(t, 15.0f) == Approx(2.0f));
+    CHECK(Evaluate(t, 99.0f) == 3.0f);
+
+    SwitchTrack s;
+    s.value = true;
+    s.keys = {{16, false}, {24, true}};
+    CHECK(Evaluate(s, 15.0f));
+    CHECK_FALSE(Evaluate(s, 16.0f));
+    CHECK_FALSE(Evaluate(s, 23.0f));
+    CHECK(Evaluate(s, 24.0f));
+
+    Scene sw = LoadBuiltin("light_switch");
+    CHECK(EvaluateScene(sw, 15).lights[0].enabled);
+    CHECK_FALSE(EvaluateScene(sw, 16).lights[0].enabled);
+    CHECK(EvaluateScene(sw, 16).lights[0].intensity.x == 0.0f);
+    CHECK(EvaluateScene(sw, 24).lights[0].enabled);
+}
+
+TEST_CASE("camera matrices follow the documented conventions", "[scenelab]")
+{
+    Scene scene = LoadBuiltin("static");
+    FrameCamera cam = ComputeFrameCamera(scene, 0, 200, 100);
+    const float target[3] = {0.0f, 0.5f, 0.0f}; // the camera looks at it: image centre
+    float px, py, z;
+    REQUIRE(ProjectToPixel(cam.worldToView, cam.viewToClip, 200, 100, target, px, py, z));
+    CHECK(px == Approx(100.0f).margin(1e-3));
+    CHECK(py == Approx(50.0f).margin(1e-3));
+    const float distance = std::sqrt((2.4f - 0.5f) * (2.4f - 0.5f) + 5.6f * 5.6f); // |position - target|
+    CHECK(z == Approx(distance).epsilon(1e-5)); // clip w = +viewZ
+    const float above[3] = {0.0f, 1.5f, 0.0f};
+    REQUIRE(ProjectToPixel(cam.worldToView, cam.viewToClip, 200, 100, above, px, py, z));
+    CHECK(py < 50.0f); // v grows downwards
+    const float right[3] = {1.0f, 0.5f, 0.0f};
+    REQUIRE(ProjectToPixel(cam.worldToView, cam.viewToClip, 200, 100, right, px, py, z));
+    CHECK(px > 100.0f);
+    const float behind[3] = {0.0f, 2.4f, 9.0f};
+    CHECK_FALSE(ProjectToPixel(cam.worldToView, cam.viewToClip, 200, 100, behind, px, py, z));
+    // Frame 0's previous camera is itself.
+    for (int i = 0; i < 16; i++)
+    {
+        CHECK(cam.worldToViewPrev[i] == cam.worldToView[i]);
+        CHECK(cam.viewToClipPrev[i] == cam.viewToClip[i]);
+    }
+}
+
+// ------------------------------------------------------------------------------------------------
+// Path tracer (lavapipe)
+
+TEST_CASE("a world point projects to the pixel where the path tracer sees it", "[scenelab][vulkan]")
+{
+    Scene scene = LoadBuiltin("static");
+    RenderParams p;
+    p.width = 96;
+    p.height = 64;
+    p.truthSpp = 0;
+    p.signals = 0;
+    FrameData f = Render(scene, p);
+    REQUIRE(f.viewZ.width == 96);
+
+    // The point of each sphere nearest the camera, and a floor point.
+    struct Probe
+    {
+        float pos[3];
+        int object;
+    };
+    std::vector<Probe> probes;
+    for (size_t i = 0; i < scene.objects.size(); i++)
+    {
+        const Object& o = scene.objects[i];
+        if (o.type != PrimitiveType::SPHERE)
+            continue;
+        Float3 c = o.position.value;
+        float d[3] = {f.camera.position[0] - c.x, f.camera.position[1] - c.y, f.camera.position[2] - c.z};
+        float len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        probes.push_back({{c.x + o.radius * d[0] / len, c.y + o.radius * d[1] / len, c.z + o.radius * d[2] / len},
+                          int(i)});
+    }
+    probes.push_back({{-0.5f, 0.0f, 2.0f}, 0}); // floor (object 0), in front of everything
+    REQUIRE(probes.size() >= 4);
+
+    for (const Probe& probe : probes)
+    {
+        float px, py, z;
+        REQUIRE(ProjectToPixel(f.camera.worldToView, f.camera.viewToClip, p.width, p.height, probe.pos, px, py, z));
+        uint32_t x = uint32_t(px), y = uint32_t(py);
+        REQUIRE(x < p.width);
+        REQUIRE(y < p.height);
+        INFO("object " << probe.object << " at pixel " << x << ", " << y);
+        CHECK(f.objectIndex.at(x, y, 0) == float(probe.object));
+        // The pixel centre is within half a pixel of the point: the depths agree closely.
+        CHECK(f.viewZ.at(x, y, 0) == Approx(z).epsilon(0.02));
+    }
+}
+
+TEST_CASE("motion vectors are zero for a still scene and follow moving objects", "[scenelab][vulkan]")
+{
+    RenderParams p;
+    p.width = 48;
+    p.height = 48;
+    p.truthSpp = 0;
+    p.signals = 0;
+    p.frameIndex = 10;
+    FrameData still = Render(LoadBuiltin("static"), p);
+    for (float v : still.motion2d.pixels)
+        CHECK(v == 0.0f);
+    for (float v : still.motion3d.pixels)
+        CHECK(v == 0.0f);
+
+    Scene scene = LoadBuiltin("moving_occluder");
+    FrameData moving = Render(scene, p);
+    int flying = -1;
+    for (size_t i = 0; i < scene.objects.size(); i++)
+        if (scene.objects[i].name == "flying sphere")
+            flying = int(i);
+    REQUIRE(flying >= 0);
+    uint32_t flyingPixels = 0;
+    for (uint32_t y = 0; y < p.height; y++)
+        for (uint32_t x = 0; x < p.width; x++)
+        {
+            bool isFlying = moving.objectIndex.at(x, y, 0) == float(flying);
+            float mx = moving.motion3d.at(x, y, 0);
+            if (isFlying)
+            {
+                flyingPixels++;
+                // It moves +x by 5.6 / 47 per frame: posPrev - pos = (-0.119, 0, 0).
+                CHECK(mx == Approx(-5.6f / 47.0f).epsilon(1e-3));
+                CHECK(moving.motion2d.at(x, y, 0) < 0.0f); // it was further left: uvPrev.x < uv.x
+            }
+            else if (moving.objectIndex.at(x, y, 0) == 0.0f)
+                CHECK(mx == 0.0f); // the floor does not move
+        }
+    CHECK(flyingPixels > 0);
+}
+
+TEST_CASE("equal seeds give identical output and different seeds differ", "[scenelab][vulkan]")
+{
+    Scene scene = LoadBuiltin("moving_light");
+    RenderParams p;
+    p.width = 40;
+    p.height = 32;
+    p.frameIndex = 5;
+    p.truthSpp = 4;
+    p.truthChunkSpp = 3; // chunking does not change the sums
+    p.signals = SIGNAL_ALL;
+    p.seed = 7;
+    FrameData a = Render(scene, p);
+    FrameData b = Render(scene, p);
+    CHECK(HashFrame(a) == HashFrame(b));
+
+    p.truthChunkSpp = 4;
+    FrameData c = Render(scene, p);
+    CHECK(HashFrame(a) == HashFrame(c));
+
+    p.seed = 8;
+    FrameData d = Render(scene, p);
+    CHECK(HashImage(a.viewZ) == HashImage(d.viewZ)); // the G-buffer does not depend on the seed
+    CHECK(HashImage(a.shadowVisibility) != HashImage(d.shadowVisibility));
+    CHECK(HashImage(a.diffuse) != HashImage(d.diffuse));
+    CHECK(HashImage(a.specularTruth) != HashImage(d.specularTruth));
+
+    // A signal's values do not depend on which other signals are rendered with it.
+    p.seed = 7;
+    p.signals = SIGNAL_DIFFUSE;
+    FrameData e = Render(scene, p);
+    CHECK(HashImage(a.diffuse) == HashImage(e.diffuse));
+    CHECK(HashImage(a.diffuseTruth) == HashImage(e.diffuseTruth));
+    CHECK(e.shadowData.width == 0); // not requested, not rendered
+    CHECK(e.specular.width == 0);
+}
+
+TEST_CASE("every built-in scene renders a frame with finite values", "[scenelab][vulkan]")
+{
+    for (const std::string& name : GetBuiltinSceneNames())
+    {
+        Scene scene = LoadBuiltin(name);
+        RenderParams p;
+        p.width = 64;
+        p.height = 64;
+        p.frameIndex = scene.frameNum / 2;
+        p.truthSpp = 2;
+        p.signals = SIGNAL_ALL;
+        FrameData f = Render(scene, p);
+        INFO(name);
+        const Image* images[] = {&f.viewZ,        &f.normalRoughness,  &f.motion2d,          &f.motion3d,
+                                 &f.albedo,       &f.specularAlbedo,   &f.shadowData,        &f.shadowVisibility,
+                                 &f.shadowTruth,  &f.translucency,     &f.translucencyShadowData, &f.translucencyTruth,
+                                 &f.diffuse,      &f.diffuseTruth,     &f.specular,          &f.specularTruth,
+                                 &f.gradients,    &f.gradientsRaw};
+        for (const Image* image : images)
+        {
+            CHECK(image->isValid());
+            CHECK(AllFinite(*image));
+        }
+        uint32_t sky = 0;
+        for (size_t i = 0; i < f.viewZ.pixelCount(); i++)
+        {
+            float z = f.viewZ.pixels[i];
+            CHECK(z > 0.0f);
+            sky += z >= kSkyViewZ ? 1 : 0;
+            for (uint32_t ch = 0; ch < 4; ch++)
+            {
+                float v = f.normalRoughness.pixels[i * 4 + ch];
+                CHECK((v >= 0.0f && v <= 1.0f));
+            }
+        }
+        if (name == "sky")
+            CHECK(sky > f.viewZ.pixelCount() / 3);
+        CHECK(f.lights.size() == scene.lights.size());
+    }
+}
+
+TEST_CASE("SIGMA shadow data and the tile hit mask agree with the visibility mask", "[scenelab][vulkan]")
+{
+    Scene scene = LoadBuiltin("thin_geometry");
+    RenderParams p;
+    p.width = 61; // odd sizes: partial tiles on the right and at the bottom
+    p.height = 37;
+    p.truthSpp = 0;
+    p.signals = SIGNAL_SHADOW;
+    FrameData f = Render(scene, p);
+    REQUIRE(f.shadowHitMaskWidth == 8);
+    REQUIRE(f.shadowHitMaskHeight == 10);
+    REQUIRE(f.shadowHitMask.size() == 80);
+    CHECK(f.light.type == LightType::SUN);
+    CHECK(f.light.tanOfLightAngularRadius == Approx(std::tan(0.5 * 3.14159265358979 / 180.0)));
+
+    uint32_t lit = 0, shadowed = 0, sky = 0;
+    for (uint32_t y = 0; y < p.height; y++)
+        for (uint32_t x = 0; x < p.width; x++)
+        {
+            float v = f.shadowVisibility.at(x, y, 0);
+            float packedVisibility = f.shadowData.at(x, y, 0);
+            float penumbra = f.shadowData.at(x, y, 1);
+            bool isSky = f.viewZ.at(x, y, 0) >= kSkyViewZ;
+            REQUIRE((v == 0.0f || v == 1.0f));
+            CHECK(packedVisibility == v);
+            if (v == 1.0f)
+            {
+                CHECK(penumbra == kNoHitDistance); // lit: no penumbra
+                lit++;
+            }
+            else
+            {
+                CHECK(penumbra >= 0.0f);
+                CHECK(penumbra < kNoHitDistance);
+                shadowed++;
+            }
+            sky += isSky ? 1 : 0;
+            if (isSky)
+                CHECK(v == 1.0f);
+            CHECK(IsLitInHitMask(f, int32_t(x), int32_t(y)) == (v == 1.0f));
+        }
+    CHECK(lit > 0);
+    CHECK(shadowed > 0);
+    // Bits of pixels beyond the image are set (lit).
+    for (uint32_t ty = 0; ty < f.shadowHitMaskHeight; ty++)
+        for (uint32_t tx = 0; tx < f.shadowHitMaskWidth; tx++)
+            for (uint32_t bit = 0; bit < 32; bit++)
+            {
+                uint32_t x = tx * 8 + bit % 8, y = ty * 4 + bit / 8;
+                if (x >= p.width || y >= p.height)
+                    CHECK(((f.shadowHitMask[ty * f.shadowHitMaskWidth + tx] >> bit) & 1u) == 1u);
+            }
+    (void)sky;
+}
+
+TEST_CASE("multi-light translucency input and truth are consistent", "[scenelab][vulkan]")
+{
+    Scene scene = LoadBuiltin("light_switch"); // a sphere light and a sun
+    RenderParams p;
+    p.width = 48;
+    p.height = 48;
+    p.frameIndex = 4;
+    p.truthSpp = 8;
+    p.signals = SIGNAL_TRANSLUCENCY;
+    FrameData f = Render(scene, p);
+    for (size_t i = 0; i < f.translucency.pixelCount(); i++)
+    {
+        float v = f.translucency.pixels[i * 4];
+        // Mean visibility over 2 lights, one ray each: 0, 0.5 or 1; the same in shadowData.x.
+        CHECK((v == 0.0f || v == 0.5f || v == 1.0f));
+        CHECK(f.translucencyShadowData.pixels[i * 2] == v);
+        for (uint32_t ch = 0; ch < 4; ch++)
+        {
+            float t = f.translucencyTruth.pixels[i * 4 + ch];
+            CHECK((t >= 0.0f && t <= 1.0f));
+        }
+    }
+}
+
+TEST_CASE("gradients are zero when nothing changes and large where a light switches off", "[scenelab][vulkan]")
+{
+    RenderParams p;
+    p.width = 48;
+    p.height = 48;
+    p.truthSpp = 0;
+    p.signals = SIGNAL_GRADIENTS;
+
+    p.frameIndex = 0;
+    FrameData first = Render(LoadBuiltin("static"), p);
+    REQUIRE(first.gradients.width == 16);
+    for (float v : first.gradientsRaw.pixels)
+        CHECK(v == 0.0f); // no previous frame
+
+    p.frameIndex = 7;
+    FrameData still = Render(LoadBuiltin("static"), p);
+    uint32_t valid = 0;
+    for (size_t i = 0; i < still.gradientsRaw.pixelCount(); i++)
+    {
+        CHECK(still.gradientsRaw.pixels[i * 4 + 0] == 0.0f);
+        CHECK(still.gradientsRaw.pixels[i * 4 + 2] == 0.0f);
+        valid += still.gradientsRaw.pixels[i * 4 + 1] > 0.0f ? 1 : 0;
+    }
+    CHECK(valid > still.gradientsRaw.pixelCount() / 2);
+
+    Scene sw = LoadBuiltin("light_switch");
+    auto meanGradient = [&](uint32_t frame) {
+        p.frameIndex = frame;
+        FrameData f = Render(sw, p);
+        double sum = 0.0;
+        for (size_t i = 0; i < f.gradients.pixelCount(); i++)
+            sum += f.gradients.pixels[i * 2];
+        return sum / double(f.gradients.pixelCount());
+    };
+    double steady = meanGradient(10);
+    double switchOff = meanGradient(16);
+    double stillOff = meanGradient(20);
+    double switchOn = meanGradient(24);
+    CHECK(steady == 0.0);
+    CHECK(stillOff == 0.0);
+    CHECK(switchOff > 0.1); // most of the image was lit by the lamp (direct light)
+    CHECK(switchOn > 0.1);
+
+    // A moving light changes the lighting of most surfaces every frame; a moving camera alone
+    // does not change diffuse lighting.
+    double moving = 0.0;
+    {
+        p.frameIndex = 9;
+        FrameData f = Render(LoadBuiltin("moving_light"), p);
+        for (size_t i = 0; i < f.gradients.pixelCount(); i++)
+            moving += f.gradients.pixels[i * 2];
+        moving /= double(f.gradients.pixelCount());
+    }
+    CHECK(moving > 0.01);
+}
+
+TEST_CASE("the ground truth converges: K spp against many more", "[scenelab][vulkan]")
+{
+    // relMSE (eps 0.01) of the truth at K spp against an independent 1024 spp reference.
+    Scene scene = LoadBuiltin("static");
+    RenderParams p;
+    p.width = 48;
+    p.height = 48;
+    p.signals = SIGNAL_SHADOW | SIGNAL_DIFFUSE;
+    p.truthChunkSpp = 64;
+    p.seed = 11;
+    p.truthSpp = 64;
+    FrameData k64 = Render(scene, p);
+    p.truthSpp = 256;
+    FrameData k256 = Render(scene, p);
+    p.seed = 12;
+    p.truthSpp = 1024;
+    FrameData ref = Render(scene, p);
+
+    double shadow64 = RelMSE(k64.shadowTruth, ref.shadowTruth);
+    double shadow256 = RelMSE(k256.shadowTruth, ref.shadowTruth);
+    double diffuse64 = RelMSE(Channels(k64.diffuseTruth, 0, 3), Channels(ref.diffuseTruth, 0, 3));
+    double diffuse256 = RelMSE(Channels(k256.diffuseTruth, 0, 3), Channels(ref.diffuseTruth, 0, 3));
+    double shadowNoisy = RelMSE(k64.shadowVisibility, ref.shadowTruth);
+    double diffuseNoisy = RelMSE(Channels(k64.diffuse, 0, 3), Channels(ref.diffuseTruth, 0, 3));
+    std::printf("truth convergence (static, 48x48, relMSE vs 1024 spp): shadow 1 spp %.5f, 64 spp %.5f, "
+                "256 spp %.5f; diffuse 1 spp %.5f, 64 spp %.5f, 256 spp %.5f\n",
+                shadowNoisy, shadow64, shadow256, diffuseNoisy, diffuse64, diffuse256);
+    CHECK(shadow64 < 0.01);
+    CHECK(shadow256 < 0.003);
+    CHECK(diffuse256 < 0.01);
+    CHECK(shadow256 < shadow64);
+    CHECK(diffuse256 < diffuse64);
+    CHECK(shadow64 < shadowNoisy / 20);
+    CHECK(diffuse64 < diffuseNoisy / 20);
+}
+
+TEST_CASE("rendered frames are cached on disk and shared", "[scenelab][vulkan]")
+{
+    std::string dir = (std::filesystem::temp_directory_path() / "nrdlab-cache-test").string();
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+    Scene scene = LoadBuiltin("static");
+    RenderParams p;
+    p.width = 32;
+    p.height = 24;
+    p.truthSpp = 4;
+    p.signals = SIGNAL_SHADOW | SIGNAL_SPECULAR;
+    Lab().SetCacheDirectory(dir);
+    FrameData a, b, c;
+    std::string error;
+    REQUIRE(Lab().Render(scene, p, a, error));
+    CHECK_FALSE(a.noisyFromCache);
+    CHECK_FALSE(a.truthFromCache);
+    REQUIRE(Lab().Render(scene, p, b, error));
+    CHECK(b.noisyFromCache);
+    CHECK(b.truthFromCache);
+    CHECK(HashFrame(a) == HashFrame(b));
+    // A method needing only the shadow shares the entries.
+    p.signals = SIGNAL_SHADOW;
+    REQUIRE(Lab().Render(scene, p, c, error));
+    CHECK(c.noisyFromCache);
+    CHECK(HashImage(c.shadowTruth) == HashImage(a.shadowTruth));
+    CHECK(c.shadowHitMask == a.shadowHitMask);
+    Lab().SetCacheDirectory("");
+    std::filesystem::remove_all(dir, ec);
+}
+
+TEST_CASE("bad render parameters are refused with a message", "[scenelab][vulkan]")
+{
+    Scene scene = LoadBuiltin("static");
+    FrameData f;
+    std::string error;
+    RenderParams p;
+    p.width = 16;
+    p.height = 16;
+    p.truthSpp = 0;
+    p.lightIndex = 3;
+    CHECK_FALSE(Lab().Render(scene, p, f, error));
+    CHECK(error.find("lightIndex") != std::string::npos);
+    p.lightIndex = 0;
+    p.bounces = 3;
+    CHECK_FALSE(Lab().Render(scene, p, f, error));
+    p.bounces = 1;
+    p.width = 0;
+    CHECK_FALSE(Lab().Render(scene, p, f, error));
+    p.width = 16;
+    CHECK(Lab().Render(scene, p, f, error));
+}
+
+TEST_CASE("the lab is clean under the validation layer", "[scenelab][vulkan]")
+{
+    nrd::lab::VulkanContext vk;
+    nrd::lab::VulkanContextDesc desc;
+    desc.enableValidation = true;
+    desc.quiet = true;
+    REQUIRE(vk.Create(desc) == VK_SUCCESS);
+    if (!vk.IsValidationEnabled())
+    {
+        WARN("VK_LAYER_KHRONOS_validation is not installed; skipped");
+        return;
+    }
+    SceneLab lab(vk);
+    REQUIRE(lab.IsValid());
+    Scene scene = LoadBuiltin("moving_occluder");
+    RenderParams p;
+    p.width = 20;
+    p.height = 12;
+    p.frameIndex = 3;
+    p.truthSpp = 3;
+    p.truthChunkSpp = 2;
+    p.signals = SIGNAL_ALL;
+    p.useCache = false;
+    FrameData f;
+    std::string error;
+    REQUIRE(lab.Render(scene, p, f, error));
+    p.width = 24; // resize
+    REQUIRE(lab.Render(scene, p, f, error));
+    CHECK(vk.ValidationMessageCount() == 0);
+}
