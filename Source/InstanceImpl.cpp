@@ -85,10 +85,13 @@ bool Invert(const Mat4d& src, Mat4d& dst)
     inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] + m[4] * m[2] * m[9] + m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
 
     double det = m[0] * inv[0] + m[1] * inv[4] + m[2] * inv[8] + m[3] * inv[12];
-    double scale = 0.0;
-    for (int i = 0; i < 16; i++)
-        scale = std::fmax(scale, std::fabs(m[i]));
-    if (!std::isfinite(det) || scale == 0.0 || std::fabs(det) <= 1e-12 * scale * scale * scale * scale)
+    // Relative to the product of the column lengths (|det| reaches it for orthogonal columns), so a
+    // large translation (a camera far from the origin) does not make a rigid transform "singular".
+    double scale = 1.0;
+    for (int c = 0; c < 4; c++)
+        scale *= std::sqrt(m[c * 4] * m[c * 4] + m[c * 4 + 1] * m[c * 4 + 1] + m[c * 4 + 2] * m[c * 4 + 2] +
+                           m[c * 4 + 3] * m[c * 4 + 3]);
+    if (!std::isfinite(det) || !std::isfinite(scale) || scale == 0.0 || std::fabs(det) <= 1e-12 * scale)
         return false;
     for (int i = 0; i < 16; i++)
         dst.m[i] = inv[i] / det;

@@ -622,3 +622,29 @@ TEST_CASE("TILED_SHADOW settings outside their ranges are rejected", "[api]")
     CHECK(nrd::SetMethodSettings(d, 3, nrd::SigmaSettings{}) == nrd::Result::INVALID_ARGUMENT);
     CHECK(nrd::SetMethodSettings(d, 3, nrd::TiledShadowSettings{}) == nrd::Result::SUCCESS);
 }
+
+TEST_CASE("A camera far from the origin is accepted and reprojects to itself", "[api]")
+{
+    Instance inst({{3, nrd::Method::TILED_SHADOW}}, 32, 32);
+    REQUIRE(inst.result == nrd::Result::SUCCESS);
+    nrd::CommonSettings s;
+    FillCamera(s);
+    // A rotated camera 100 km away, still: clip -> previous clip must be the identity, which float
+    // products of the world matrices would not give.
+    const float c = 0.6f, sn = 0.8f;
+    float view[16] = {c, 0, -sn, 0, 0, 1, 0, 0, sn, 0, c, 0, -1.0e5f, 2.5e4f, 3.0e4f, 1};
+    memcpy(s.worldToViewMatrix, view, sizeof(view));
+    memcpy(s.worldToViewMatrixPrev, view, sizeof(view));
+    s.frameIndex = 1;
+    REQUIRE(nrd::SetCommonSettings(*inst.denoiser, s) == nrd::Result::SUCCESS);
+    const nrd::DispatchDesc* dispatches = nullptr;
+    uint32_t num = 0;
+    REQUIRE(nrd::GetComputeDispatches(*inst.denoiser, nullptr, 0, dispatches, num) == nrd::Result::SUCCESS);
+    REQUIRE(num > 1);
+    REQUIRE(std::string(dispatches[1].name) == "TILED_SHADOW - Classify");
+    // The classification's block: NRD_COMMON_CONSTANTS (336 bytes), then gClipToClipPrev.
+    float m[16];
+    memcpy(m, dispatches[1].constantBufferData + 336, sizeof(m));
+    for (int i = 0; i < 16; i++)
+        CHECK(m[i] == Approx(i % 5 == 0 ? 1.0f : 0.0f).margin(1e-6));
+}
