@@ -3,9 +3,9 @@
 // Per frame, for a W x H input:
 //   1. Classify tiles      16x16 tiles: uniform (copy), mixed (denoise) or sky (skip), plus the
 //                          largest kernel radius; later passes dilate the map by that reach.
-//   2. Blur                penumbra estimate (dense 7x7 of occluded neighbours), dense 5x5 + 16-tap
+//   2. Blur                penumbra estimate (dense 5x5 of occluded neighbours), dense 5x5 + 8-tap
 //                          rotated disk on the tangent plane, radius from the penumbra.
-//   3. Post-blur           half radius, independently rotated, 3x3 + 12 taps.
+//   3. Post-blur           half radius, independently rotated, 3x3 + 8 taps.
 //   4. Temporal stabilization  reprojection, disocclusion test, neighbourhood clamp, anti-lag,
 //                          up to maxStabilizedFrameNum frames; skipped (post-blur writes the output)
 //                          when maxStabilizedFrameNum is 0. History ping-pongs by frame parity.

@@ -28,13 +28,15 @@ constexpr float kPlaneViewZ = 10.0f;
 constexpr float kFp16Max = 65504.0f;
 constexpr float kOutputSentinel = 2.0f; // Written into the output before denoising; SIGMA writes [0, 1].
 
-// Measured factors are printed by the tests (see the report in CHANGELOG / the closing note); the
-// thresholds are about half of what is measured on lavapipe.
-constexpr double kStaticFactor = 15.0;     // relMSE(noisy) / relMSE(output) after 8 still frames.
-constexpr double kFirstFrameFactor = 3.0;  // Spatial filtering alone (frame 0).
-constexpr double kTranslucencyFactor = 8.0;
-constexpr double kSlidingEdgeFactor = 4.0;
-constexpr double kMovingCameraFactor = 8.0;
+// Quality factors relMSE(noisy) / relMSE(denoised). Each test prints what it measures; the
+// thresholds are about half of what lavapipe measured (in brackets).
+constexpr double kStaticFactor = 35.0;       // [77x] 256x256, radius 10 px, after 8 still frames.
+constexpr double kFirstFrameFactor = 15.0;   // [30x] Frame 0: spatial filtering alone.
+constexpr double kTranslucencyFactor = 25.0; // [58x shadow, 80x translucency] 128x128, 6 frames.
+constexpr double kSlidingEdgeFactor = 7.0;   // [15x] The light moves 1.5 px per frame.
+constexpr double kMovingCameraFactor = 28.0; // [59x] The camera moves 1.5 px per frame.
+constexpr double kGroundPlaneFactor = 25.0;  // [52x] Grazing ground plane, varying depth.
+constexpr double kSpatialOnlyFactor = 11.0;  // [23x] maxStabilizedFrameNum = 0 (then restarted).
 
 struct Scene
 {
@@ -567,7 +569,7 @@ TEST_CASE("SIGMA without temporal stabilization still denoises spatially", "[vul
             denoised += RelMse(scene, output, f.truth);
         }
         std::printf("SIGMA spatial only + restart quality factor: %.1fx\n", noisy / denoised);
-        CHECK(noisy / denoised > kFirstFrameFactor);
+        CHECK(noisy / denoised > kSpatialOnlyFactor);
     }
     CHECK(context->ValidationMessageCount() == 0);
 }
@@ -682,4 +684,89 @@ TEST_CASE("SigmaSettings out of range are rejected with a message", "[api][sigma
     s.maxStabilizedFrameNum = SIGMA_MAX_HISTORY_FRAME_NUM;
     CHECK(SetMethodSettings(*denoiser, SIGMA_ID, s) == Result::SUCCESS);
     DestroyDenoiser(denoiser);
+}
+
+TEST_CASE("SIGMA denoises a penumbra on a ground plane seen at a grazing angle", "[vulkan][sigma]")
+{
+    // The still camera looks along +z with view y pointing down the image; the ground is the plane
+    // y = 1 (normal towards the camera and the sun: -y), so viewZ = 1 / ndc.y below the horizon and
+    // the upper half is sky. The sun is overhead: the penumbra is a band of world radius 0.15
+    // around x = 0.3, its pixel size shrinking with distance.
+    const uint32_t w = 192, h = 128;
+    const float radius = 0.15f, edge = 0.3f;
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    {
+        Scene scene;
+        scene.width = w;
+        scene.height = h;
+        scene.hasSky = false; // Sky comes from viewZ below; metrics use the ground only.
+        SigmaRig rig(*context, Method::SIGMA_SHADOW, scene);
+        SigmaSettings settings = {};
+        settings.lightDirection[1] = -1.0f;
+        rig.Create(settings);
+
+        auto ground = [&](uint32_t y) { return (float(y) + 0.5f) / float(h) * 2.0f - 1.0f > 0.02f; };
+        double noisySum = 0.0, denoisedSum = 0.0;
+        const uint32_t frames = 8;
+        for (uint32_t frame = 0; frame < frames; frame++)
+        {
+            FrameData f = MakeFrame(scene, 10000 + frame);
+            std::mt19937 rng(11000 + frame);
+            std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++)
+                {
+                    size_t i = size_t(y) * w + x;
+                    float ndcX = (float(x) + 0.5f) / float(w) * 2.0f - 1.0f;
+                    float ndcY = (float(y) + 0.5f) / float(h) * 2.0f - 1.0f;
+                    bool isGround = ground(y);
+                    float viewZ = isGround ? 1.0f / ndcY : INFINITY;
+                    float worldX = ndcX * viewZ;
+                    float truth = isGround ? std::min(std::max((worldX - edge + radius) / (2.0f * radius), 0.0f), 1.0f) : 1.0f;
+                    bool lit = uniform(rng) < truth;
+                    f.viewZ[i] = viewZ;
+                    f.normal[i * 4 + 0] = 0.5f;
+                    f.normal[i * 4 + 1] = 0.0f; // -y
+                    f.normal[i * 4 + 2] = 0.5f;
+                    f.shadowData[i * 2 + 0] = lit ? 1.0f : 0.0f;
+                    f.shadowData[i * 2 + 1] = lit ? kFp16Max : radius / viewZ;
+                    for (int c = 0; c < 4; c++)
+                    {
+                        f.truth[i * 4 + c] = truth;
+                        f.noisy[i * 4 + c] = f.shadowData[i * 2 + 0];
+                    }
+                }
+            std::vector<float> output = rig.Frame(frame, f);
+            REQUIRE(AllFinite(output));
+            WriteStrip(scene, ("sigma_ground_" + std::to_string(frame)).c_str(), f.noisy, output, f.truth);
+            // Ground pixels only (sky keeps the sentinel).
+            std::vector<float> o, t, n;
+            size_t skyWritten = 0;
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++)
+                    if (ground(y))
+                    {
+                        size_t i = (size_t(y) * w + x) * 4;
+                        o.push_back(output[i]);
+                        t.push_back(f.truth[i]);
+                        n.push_back(f.noisy[i]);
+                    }
+                    else
+                        skyWritten += output[(size_t(y) * w + x) * 4] != kOutputSentinel;
+            CHECK(skyWritten == 0);
+            nrdlab::Image oi(uint32_t(o.size()), 1, 1), ti(uint32_t(t.size()), 1, 1), ni(uint32_t(n.size()), 1, 1);
+            oi.pixels = o;
+            ti.pixels = t;
+            ni.pixels = n;
+            if (frame >= frames - 2)
+            {
+                noisySum += nrdlab::RelMSE(ni, ti);
+                denoisedSum += nrdlab::RelMSE(oi, ti);
+            }
+        }
+        std::printf("SIGMA ground plane quality factor: %.1fx\n", noisySum / denoisedSum);
+        CHECK(noisySum / denoisedSum > kGroundPlaneFactor);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
 }

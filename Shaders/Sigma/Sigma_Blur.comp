@@ -4,7 +4,7 @@
 //    penumbra is the weighted mean over the occluded pixels of a dense 5x5 window (shared memory),
 //    preferring smaller penumbrae (1 / (1 + radius)) so wide penumbrae do not bleed into narrow ones.
 // 2. Kernel radius = penumbra radius * gBlurRadiusScale (pixels), at most 32.
-// 3. Filter: dense 5x5 around the center plus a sparse rotated disk on the tangent plane, Gaussian
+// 3. Filter: dense 5x5 around the center plus an 8-tap rotated disk on the tangent plane, Gaussian
 //    falloff, plane-distance and normal weights; sky samples are skipped. The sparse samples also
 //    refine the penumbra estimate, which the next passes reuse.
 #version 450
@@ -17,7 +17,7 @@
 
 #define BORDER 2 // Dense window radius
 #define SMEM_SIZE (SIGMA_TILE_SIZE + 2 * BORDER)
-#define SPARSE_SAMPLE_NUM 16u
+#define SPARSE_SAMPLE_NUM 8u
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared float s_Penumbra[SMEM_SIZE][SMEM_SIZE]; // pixels, SIGMA_UNKNOWN_PENUMBRA where lit
@@ -142,7 +142,7 @@ void main()
     SigmaKernel kernel = _Sigma_Kernel(Xv, Nv, radius * viewZ / gProjectY, _Sigma_KernelAngle(pixel, 0u));
     for (uint n = 0u; n < SPARSE_SAMPLE_NUM; n++)
     {
-        vec3 o = kSigmaDisk16[n];
+        vec3 o = kSigmaDisk8[n];
         ivec2 q;
         if (!_Sigma_KernelSamplePixel(kernel, o.xy, q))
             continue;

@@ -116,20 +116,13 @@ float _Sigma_KernelAngle(ivec2 pixel, uint salt)
     return _NRD_Random01(seed) * (2.0 * NRD_PI);
 }
 
-// Vogel (golden angle) disks of radius 1: sample i at radius sqrt((i + 0.5) / n), angle i * 2.39996;
-// .z = _Sigma_KernelWeight(r^2), precomputed.
-const vec3 kSigmaDisk16[16] = vec3[16](
-    vec3(0.176777, 0.000000, 0.910510), vec3(-0.225772, 0.206826, 0.754840), vec3(0.034558, -0.393771, 0.625784),
-    vec3(0.284571, 0.371173, 0.518793), vec3(-0.522223, -0.092374, 0.430095), vec3(0.494695, -0.314685, 0.356561),
-    vec3(-0.165466, 0.615525, 0.295599), vec3(-0.315561, -0.607594, 0.245061), vec3(0.684642, 0.250030, 0.203162),
-    vec3(-0.712256, 0.294009, 0.168427), vec3(0.343355, -0.733729, 0.139631), vec3(0.253730, 0.808932, 0.115758),
-    vec3(-0.764746, -0.443186, 0.095967), vec3(0.897134, -0.197232, 0.079560), vec3(-0.547507, 0.778772, 0.065957),
-    vec3(-0.126487, -0.976090, 0.054680));
-const vec3 kSigmaDisk12[12] = vec3[12](
-    vec3(0.204124, 0.000000, 0.882497), vec3(-0.260699, 0.238822, 0.687289), vec3(0.039904, -0.454688, 0.535261),
-    vec3(0.328595, 0.428593, 0.416862), vec3(-0.603011, -0.106664, 0.324652), vec3(0.571225, -0.363367, 0.252840),
-    vec3(-0.191064, 0.710747, 0.196912), vec3(-0.364379, -0.701590, 0.153355), vec3(0.790557, 0.288710, 0.119433),
-    vec3(-0.822442, 0.339492, 0.093014), vec3(0.396472, -0.847237, 0.072440), vec3(0.292982, 0.934074, 0.056416));
+// Vogel (golden angle) disk of radius 1: sample i at radius sqrt((i + 0.5) / 8), angle i * 2.39996;
+// .z = _Sigma_KernelWeight(r^2), precomputed. With the dense taps around the center, 8 sparse
+// samples per pass match 16 in quality after temporal stabilization at half the cost.
+const vec3 kSigmaDisk8[8] = vec3[8](
+    vec3(0.250000, 0.000000, 0.829029), vec3(-0.319290, 0.292496, 0.569783), vec3(0.048872, -0.556877, 0.391606),
+    vec3(0.402444, 0.524918, 0.269146), vec3(-0.738535, -0.130636, 0.184981), vec3(0.699605, -0.445031, 0.127136),
+    vec3(-0.234004, 0.870484, 0.087379), vec3(-0.446271, -0.859268, 0.060055));
 
 // Gaussian falloff over the kernel, 'r2' = squared distance in units of the kernel radius.
 float _Sigma_KernelWeight(float r2) { return exp(-3.0 * r2); }

@@ -1,6 +1,6 @@
 // SIGMA post-blur (document 004, SIGMA), second spatial pass: the same tangent-plane kernel at half
 // the radius, rotated independently of the first pass, over the first pass's result. Dense 3x3
-// plus a sparse disk; the penumbra estimate comes from the first pass.
+// plus an 8-tap sparse disk; the penumbra estimate comes from the first pass.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -10,7 +10,7 @@
 #include "Sigma_Common.glsl"
 
 #define RADIUS_SCALE 0.5
-#define SPARSE_SAMPLE_NUM 12u
+#define SPARSE_SAMPLE_NUM 8u
 
 SIGMA_TYPE LoadBlurred(ivec2 pixel)
 {
@@ -74,16 +74,15 @@ void main()
     SigmaKernel kernel = _Sigma_Kernel(Xv, Nv, radius * viewZ / gProjectY, _Sigma_KernelAngle(pixel, 0x9e3779b9u));
     for (uint n = 0u; n < SPARSE_SAMPLE_NUM; n++)
     {
-        vec3 o = kSigmaDisk12[n];
+        vec3 o = kSigmaDisk8[n];
         ivec2 q;
         if (!_Sigma_KernelSamplePixel(kernel, o.xy, q))
             continue;
         float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
         if (_NRD_IsSky(z))
             continue;
-        vec3 Ns = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0)).xyz;
-        float w = o.z * _Sigma_NeighbourPlaneWeight(plane, q.x - pixel.x, q.y - pixel.y, z) *
-                  _Sigma_NormalWeight(N, Ns);
+        // Plane distance only: the first pass already kept other surfaces out of the signal.
+        float w = o.z * _Sigma_NeighbourPlaneWeight(plane, q.x - pixel.x, q.y - pixel.y, z);
         sum += LoadBlurred(q) * w;
         weightSum += w;
     }
