@@ -225,7 +225,8 @@ struct PipelineDesc
     const char* shaderIdentifier = nullptr;        // Readable, e.g. "Sigma_Blur".
     const ResourceRangeDesc* resourceRanges = nullptr; // In binding order.
     uint32_t resourceRangesNum = 0;
-    uint32_t constantBufferSize = 0; // Bytes of this pipeline's uniform block (0 if none).
+    uint32_t constantBufferSize = 0; // Bytes of this pipeline's uniform block (0 if none); every
+                                     // dispatch of it carries exactly this many constant bytes.
     bool hasConstantData = false;
     uint16_t groupSizeX = 0; // Workgroup size declared by the shader.
     uint16_t groupSizeY = 0;
@@ -241,7 +242,8 @@ struct TextureDesc
 };
 
 // Pool buffer: 'size' bytes, usage storage (+ indirect arguments if 'isIndirectArguments').
-// 'isPermanent' buffers keep their content across frames; others are transient.
+// 'isPermanent' buffers keep their content across frames (zero them at creation); the content of
+// the others is undefined at the start of a frame: methods clear what they rely on themselves.
 struct BufferDesc
 {
     uint64_t size = 0;
@@ -251,7 +253,10 @@ struct BufferDesc
 
 struct DescriptorPoolDesc
 {
-    uint32_t setsMaxNum = 0;             // Resource sets needed by one frame of all methods.
+    // Resource sets (set 0) of one frame of all methods (each dispatch once). The constants +
+    // samplers set (set 1) is not counted: one per pipeline suffices with a dynamic uniform
+    // offset, else allocate one per dispatch as well.
+    uint32_t setsMaxNum = 0;
     uint32_t constantBuffersMaxNum = 0;
     uint32_t texturesMaxNum = 0;         // Sampled images.
     uint32_t storageTexturesMaxNum = 0;  // Storage images.
