@@ -1,5 +1,5 @@
-// LabShaders.h - SPIR-V of the lab's passes, compiled from Shaders/*.comp at build time and
-// embedded by EmbedSpirv.cmake (the generated sources live in the build directory).
+// LabShaders.h - SPIR-V of the lab's shader variants, compiled from Shaders/*.comp at build time
+// (CMakeLists.txt lists the variants) and embedded as arrays generated in the build directory.
 #pragma once
 
 #include <cstdint>
@@ -7,11 +7,14 @@
 namespace nrdlab
 {
 
-extern const uint32_t g_LabPrimary[];
-extern const uint32_t g_LabPrimary_size; // Bytes.
-extern const uint32_t g_LabTruth[];
-extern const uint32_t g_LabTruth_size;
-extern const uint32_t g_LabGradients[];
-extern const uint32_t g_LabGradients_size;
+struct LabShaderBlob
+{
+    const char* name;     // e.g. "LabTruth_Diffuse_b1d1"
+    const uint32_t* words;
+    uint32_t size;        // Bytes.
+};
+
+// Every variant; static storage.
+const LabShaderBlob* GetLabShaders(uint32_t& count);
 
 } // namespace nrdlab

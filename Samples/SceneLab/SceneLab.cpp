@@ -18,6 +18,7 @@ static_assert(nrdlab::kMaxObjects == LAB_MAX_OBJECTS && nrdlab::kMaxLights == LA
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <cmath>
 #include <cstdlib>
 
@@ -33,14 +34,6 @@ namespace
 constexpr const char* kCacheVersion = "nrdlab-cache-2";
 
 constexpr uint32_t kMaxSize = 8192;
-
-enum PassIndex : uint32_t
-{
-    PASS_PRIMARY,
-    PASS_TRUTH,
-    PASS_GRADIENTS,
-    PASS_NUM
-};
 
 // Parts of a frame, each cached on its own so that methods needing different signals share them.
 enum Part : uint32_t
@@ -153,6 +146,7 @@ gpu::vec4 Vec4(const Float3& v, float w)
     return {v.x, v.y, v.z, w};
 }
 
+
 struct Texture
 {
     rhi::Texture* texture = nullptr;
@@ -160,6 +154,105 @@ struct Texture
     uint32_t width = 0, height = 0;
 };
 
+// Every texture the lab writes: the noisy outputs and, per signal, the truth accumulators (layouts
+// in LabShared.glsl). Created at the frame size on first use.
+enum Slot : uint32_t
+{
+    SLOT_GBUFFER0,
+    SLOT_NORMAL_ROUGHNESS,
+    SLOT_MV3D,
+    SLOT_ALBEDO,
+    SLOT_SPEC_ALBEDO,
+    SLOT_SHADOW,
+    SLOT_HIT_MASK,
+    SLOT_TRANSLUCENCY,
+    SLOT_TRANSLUCENCY_DATA,
+    SLOT_DIFFUSE,
+    SLOT_SPECULAR,
+    SLOT_GRADIENTS,
+    SLOT_ACC_SHADOW_A,
+    SLOT_ACC_TRANSLUCENCY_A,
+    SLOT_ACC_TRANSLUCENCY_B,
+    SLOT_ACC_DIFFUSE_A,
+    SLOT_ACC_DIFFUSE_B,
+    SLOT_ACC_SPECULAR_A,
+    SLOT_ACC_SPECULAR_B,
+    SLOT_NUM
+};
+
+struct Output
+{
+    uint32_t binding;
+    Slot slot;
+};
+
+// One dispatch: a shader variant and where its outputs go.
+struct Pass
+{
+    std::string shader;
+    std::vector<Output> outputs;
+    bool isTruth = false; // Takes LabTruthChunk push constants.
+};
+
+std::string VariantSuffix(const RenderParams& p)
+{
+    return "_b" + std::to_string(p.bounces) + "d" + std::to_string(p.directLighting ? 1 : 0);
+}
+
+// The noisy pass of 'signal' (0 = G-buffer).
+Pass NoisyPass(uint32_t signal, const RenderParams& p)
+{
+    switch (signal)
+    {
+    case 0:
+        return {"LabPrimary_GBuffer",
+                {{LAB_BINDING_GBUFFER0, SLOT_GBUFFER0},
+                 {LAB_BINDING_NORMAL_ROUGHNESS, SLOT_NORMAL_ROUGHNESS},
+                 {LAB_BINDING_MV3D, SLOT_MV3D},
+                 {LAB_BINDING_ALBEDO, SLOT_ALBEDO},
+                 {LAB_BINDING_SPEC_ALBEDO, SLOT_SPEC_ALBEDO}}};
+    case SIGNAL_SHADOW:
+        return {"LabPrimary_Shadow", {{LAB_BINDING_SHADOW, SLOT_SHADOW}, {LAB_BINDING_HIT_MASK, SLOT_HIT_MASK}}};
+    case SIGNAL_TRANSLUCENCY:
+        return {"LabPrimary_Translucency",
+                {{LAB_BINDING_TRANSLUCENCY, SLOT_TRANSLUCENCY},
+                 {LAB_BINDING_TRANSLUCENCY_DATA, SLOT_TRANSLUCENCY_DATA}}};
+    case SIGNAL_DIFFUSE:
+        return {"LabPrimary_Diffuse" + VariantSuffix(p), {{LAB_BINDING_DIFFUSE, SLOT_DIFFUSE}}};
+    case SIGNAL_SPECULAR:
+        return {"LabPrimary_Specular" + VariantSuffix(p), {{LAB_BINDING_SPECULAR, SLOT_SPECULAR}}};
+    default:
+        return {"LabGradients" + VariantSuffix(p), {{LAB_BINDING_GRADIENTS, SLOT_GRADIENTS}}};
+    }
+}
+
+Pass TruthPass(uint32_t signal, const RenderParams& p)
+{
+    Pass pass;
+    pass.isTruth = true;
+    switch (signal)
+    {
+    case SIGNAL_SHADOW:
+        pass.shader = "LabTruth_Shadow";
+        pass.outputs = {{LAB_BINDING_ACC_A, SLOT_ACC_SHADOW_A}};
+        break;
+    case SIGNAL_TRANSLUCENCY:
+        pass.shader = "LabTruth_Translucency";
+        pass.outputs = {{LAB_BINDING_ACC_A, SLOT_ACC_TRANSLUCENCY_A}, {LAB_BINDING_ACC_B, SLOT_ACC_TRANSLUCENCY_B}};
+        break;
+    case SIGNAL_DIFFUSE:
+        pass.shader = "LabTruth_Diffuse" + VariantSuffix(p);
+        pass.outputs = {{LAB_BINDING_ACC_A, SLOT_ACC_DIFFUSE_A}, {LAB_BINDING_ACC_B, SLOT_ACC_DIFFUSE_B}};
+        break;
+    default:
+        pass.shader = "LabTruth_Specular" + VariantSuffix(p);
+        pass.outputs = {{LAB_BINDING_ACC_A, SLOT_ACC_SPECULAR_A}, {LAB_BINDING_ACC_B, SLOT_ACC_SPECULAR_B}};
+        break;
+    }
+    return pass;
+}
+
+const uint32_t kTruthSignals[] = {SIGNAL_SHADOW, SIGNAL_TRANSLUCENCY, SIGNAL_DIFFUSE, SIGNAL_SPECULAR};
 } // namespace
 
 std::string GetDefaultCacheDirectory()
@@ -209,6 +302,7 @@ bool IsLitInHitMask(const FrameData& frame, int32_t x, int32_t y)
     return (bits >> ((uint32_t(x) % 8) + 8 * (uint32_t(y) % 4))) & 1u;
 }
 
+
 // ------------------------------------------------------------------------------------------------
 
 struct SceneLab::Impl
@@ -219,18 +313,17 @@ struct SceneLab::Impl
     std::string error;
     std::string shaderHash; // Part of every cache key: a shader change invalidates the cache.
 
-    rhi::Pipeline* pipelines[PASS_NUM] = {};
+    std::map<std::string, rhi::Pipeline*> pipelines; // By variant name, created on first use.
     rhi::DescriptorPool* descriptorPool = nullptr;
     rhi::CommandBuffer* commandBuffer = nullptr;
-    rhi::Buffer* constants = nullptr; // LabConstants (uniform, host-written)
-    rhi::Buffer* objects = nullptr;   // LabObject[kMaxObjects]
-    rhi::Buffer* materials = nullptr; // LabMaterial[kMaxObjects]
-    rhi::Buffer* lights = nullptr;    // LabLight[kMaxLights]
+    rhi::Buffer* constants = nullptr; // LabConstants
+    rhi::Buffer* objects = nullptr;   // LabObject[LAB_MAX_OBJECTS]
+    rhi::Buffer* materials = nullptr; // LabMaterial[LAB_MAX_OBJECTS]
+    rhi::Buffer* lights = nullptr;    // LabLight[LAB_MAX_LIGHTS]
     rhi::Buffer* readback = nullptr;
     uint64_t readbackSize = 0;
-    Texture textures[LAB_BINDING_NUM]; // Indexed by binding; created on first use at the frame size.
-    Texture dummyFloat;                // 1x1 stand-ins for outputs a dispatch does not write.
-    Texture dummyUint;
+    Texture textures[SLOT_NUM];
+    bool isValid = false;
 
     explicit Impl(rhi::Device& d) : device(d)
     {
@@ -241,10 +334,8 @@ struct SceneLab::Impl
         device.WaitIdle();
         for (Texture& t : textures)
             device.DestroyTexture(t.texture);
-        device.DestroyTexture(dummyFloat.texture);
-        device.DestroyTexture(dummyUint.texture);
-        for (rhi::Pipeline* p : pipelines)
-            device.DestroyPipeline(p);
+        for (auto& p : pipelines)
+            device.DestroyPipeline(p.second);
         device.DestroyDescriptorPool(descriptorPool);
         device.DestroyCommandBuffer(commandBuffer);
         for (rhi::Buffer* b : {constants, objects, materials, lights, readback})
@@ -259,145 +350,129 @@ struct SceneLab::Impl
         return false;
     }
 
-    static bool IsUintBinding(uint32_t binding)
-    {
-        return binding == LAB_BINDING_HIT_MASK;
-    }
-
-    // Bindings of a pass's set 0, in order.
-    static std::vector<uint32_t> PassOutputs(PassIndex pass)
-    {
-        switch (pass)
-        {
-        case PASS_PRIMARY:
-            return {LAB_BINDING_GBUFFER0,    LAB_BINDING_NORMAL_ROUGHNESS,  LAB_BINDING_MV3D,
-                    LAB_BINDING_ALBEDO,      LAB_BINDING_SPEC_ALBEDO,       LAB_BINDING_SHADOW,
-                    LAB_BINDING_TRANSLUCENCY, LAB_BINDING_TRANSLUCENCY_DATA, LAB_BINDING_DIFFUSE,
-                    LAB_BINDING_SPECULAR,    LAB_BINDING_HIT_MASK};
-        case PASS_TRUTH:
-            return {LAB_BINDING_ACC_SHADOW, LAB_BINDING_ACC_TRANSLUCENCY, LAB_BINDING_ACC_DIFFUSE,
-                    LAB_BINDING_ACC_SPECULAR, LAB_BINDING_ACC_COUNT};
-        default:
-            return {LAB_BINDING_GRADIENTS};
-        }
-    }
-
     bool Create()
     {
-        struct Blob
-        {
-            const uint32_t* words;
-            uint32_t size;
-            const char* name;
-        };
-        const Blob blobs[PASS_NUM] = {{g_LabPrimary, g_LabPrimary_size, "LabPrimary"},
-                                      {g_LabTruth, g_LabTruth_size, "LabTruth"},
-                                      {g_LabGradients, g_LabGradients_size, "LabGradients"}};
+        uint32_t count = 0;
+        const LabShaderBlob* blobs = GetLabShaders(count);
         uint64_t h = 0xcbf29ce484222325ull;
-        for (uint32_t p = 0; p < PASS_NUM; p++)
-        {
-            h = Fnv1a64(blobs[p].words, blobs[p].size, h);
-            std::vector<rhi::DescriptorBindingDesc> bindings;
-            bindings.push_back({LAB_BINDING_CONSTANTS, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
-            bindings.push_back({LAB_BINDING_OBJECTS, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
-            bindings.push_back({LAB_BINDING_MATERIALS, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
-            bindings.push_back({LAB_BINDING_LIGHTS, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
-            for (uint32_t b : PassOutputs(PassIndex(p)))
-                bindings.push_back({b, rhi::DescriptorType::STORAGE_TEXTURE, 1, nullptr});
-            rhi::DescriptorSetDesc set = {bindings.data(), uint32_t(bindings.size())};
-            rhi::ComputePipelineDesc pd;
-            pd.spirv = blobs[p].words;
-            pd.spirvSize = blobs[p].size;
-            pd.sets = &set;
-            pd.setsNum = 1;
-            pd.pushConstantsSize = p == PASS_TRUTH ? uint32_t(sizeof(gpu::LabTruthChunk)) : 0;
-            pd.name = blobs[p].name;
-            if (!Check(device.CreateComputePipeline(pd, pipelines[p]), "CreateComputePipeline"))
-                return false;
-        }
+        for (uint32_t i = 0; i < count; i++)
+            h = Fnv1a64(blobs[i].words, blobs[i].size, h);
         char hex[17];
         std::snprintf(hex, sizeof(hex), "%016llx", (unsigned long long)h);
         shaderHash = hex;
 
+        // Enough for every pass of one Render call (sets are freed at the start of the next).
         rhi::DescriptorPoolDesc pool;
-        pool.setsMaxNum = PASS_NUM;
-        pool.descriptorsMaxNum[(size_t)rhi::DescriptorType::UNIFORM_BUFFER] = 4 * PASS_NUM;
-        pool.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_TEXTURE] = LAB_BINDING_NUM;
+        pool.setsMaxNum = 16;
+        pool.descriptorsMaxNum[(size_t)rhi::DescriptorType::UNIFORM_BUFFER] = 4 * 16;
+        pool.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_TEXTURE] = 5 * 16;
         if (!Check(device.CreateDescriptorPool(pool, descriptorPool), "CreateDescriptorPool") ||
             !Check(device.CreateCommandBuffer(commandBuffer), "CreateCommandBuffer"))
             return false;
 
-        auto makeBuffer = [&](uint64_t size, uint32_t usage, const char* name, rhi::Buffer*& out) {
+        auto makeBuffer = [&](uint64_t size, const char* name, rhi::Buffer*& out) {
             rhi::BufferDesc bd;
             bd.size = size;
-            bd.usage = usage;
+            bd.usage = rhi::BUFFER_USAGE_UNIFORM;
             bd.location = rhi::MemoryLocation::HOST_UPLOAD;
             bd.name = name;
             return Check(device.CreateBuffer(bd, out), "CreateBuffer");
         };
-        return makeBuffer(sizeof(gpu::LabConstants), rhi::BUFFER_USAGE_UNIFORM, "LabConstants", constants) &&
-               makeBuffer(sizeof(gpu::LabObject) * LAB_MAX_OBJECTS, rhi::BUFFER_USAGE_UNIFORM, "LabObjects", objects) &&
-               makeBuffer(sizeof(gpu::LabMaterial) * LAB_MAX_OBJECTS, rhi::BUFFER_USAGE_UNIFORM, "LabMaterials",
-                          materials) &&
-               makeBuffer(sizeof(gpu::LabLight) * LAB_MAX_LIGHTS, rhi::BUFFER_USAGE_UNIFORM, "LabLights", lights) &&
-               CreateTexture(dummyFloat, rhi::Format::RGBA32_SFLOAT, 1, 1, "LabDummy") &&
-               CreateTexture(dummyUint, rhi::Format::R32_UINT, 1, 1, "LabDummyUint");
+        isValid = makeBuffer(sizeof(gpu::LabConstants), "LabConstants", constants) &&
+                  makeBuffer(sizeof(gpu::LabObject) * LAB_MAX_OBJECTS, "LabObjects", objects) &&
+                  makeBuffer(sizeof(gpu::LabMaterial) * LAB_MAX_OBJECTS, "LabMaterials", materials) &&
+                  makeBuffer(sizeof(gpu::LabLight) * LAB_MAX_LIGHTS, "LabLights", lights) &&
+                  GetPipeline(NoisyPass(0, RenderParams())) != nullptr; // compiles the G-buffer pass
+        return isValid;
     }
 
-    bool CreateTexture(Texture& t, rhi::Format format, uint32_t w, uint32_t h, const char* name)
+    rhi::Pipeline* GetPipeline(const Pass& pass)
     {
-        device.DestroyTexture(t.texture);
-        t = {};
-        rhi::TextureDesc td;
-        td.format = format;
-        td.width = w;
-        td.height = h;
-        td.usage = rhi::TEXTURE_USAGE_STORAGE | rhi::TEXTURE_USAGE_COPY_SOURCE;
-        td.name = name;
-        if (!Check(device.CreateTexture(td, t.texture), "CreateTexture"))
-            return false;
-        t.width = w;
-        t.height = h;
-        return true;
+        auto it = pipelines.find(pass.shader);
+        if (it != pipelines.end())
+            return it->second;
+        uint32_t count = 0;
+        const LabShaderBlob* blobs = GetLabShaders(count);
+        const LabShaderBlob* blob = nullptr;
+        for (uint32_t i = 0; i < count && !blob; i++)
+            if (pass.shader == blobs[i].name)
+                blob = &blobs[i];
+        if (!blob)
+        {
+            error = "no shader variant " + pass.shader;
+            return nullptr;
+        }
+        std::vector<rhi::DescriptorBindingDesc> bindings;
+        for (uint32_t b : {LAB_BINDING_CONSTANTS, LAB_BINDING_OBJECTS, LAB_BINDING_MATERIALS, LAB_BINDING_LIGHTS})
+            bindings.push_back({b, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
+        for (const Output& o : pass.outputs)
+            bindings.push_back({o.binding, rhi::DescriptorType::STORAGE_TEXTURE, 1, nullptr});
+        rhi::DescriptorSetDesc set = {bindings.data(), uint32_t(bindings.size())};
+        rhi::ComputePipelineDesc pd;
+        pd.spirv = blob->words;
+        pd.spirvSize = blob->size;
+        pd.sets = &set;
+        pd.setsNum = 1;
+        pd.pushConstantsSize = pass.isTruth ? uint32_t(sizeof(gpu::LabTruthChunk)) : 0;
+        pd.name = blob->name;
+        rhi::Pipeline* pipeline = nullptr;
+        if (!Check(device.CreateComputePipeline(pd, pipeline), "CreateComputePipeline"))
+            return nullptr;
+        pipelines[pass.shader] = pipeline;
+        return pipeline;
     }
 
-    void BindingSize(uint32_t binding, uint32_t w, uint32_t h, uint32_t& outW, uint32_t& outH) const
+    static bool IsUint(Slot slot)
+    {
+        return slot == SLOT_HIT_MASK;
+    }
+
+    static void SlotSize(Slot slot, uint32_t w, uint32_t h, uint32_t& outW, uint32_t& outH)
     {
         outW = w;
         outH = h;
-        if (binding == LAB_BINDING_HIT_MASK)
+        if (slot == SLOT_HIT_MASK)
         {
             outW = DivideUp(w, 8);
             outH = DivideUp(h, 4);
         }
-        else if (binding == LAB_BINDING_GRADIENTS)
+        else if (slot == SLOT_GRADIENTS)
         {
             outW = DivideUp(w, 3);
             outH = DivideUp(h, 3);
         }
     }
 
-    bool EnsureTexture(uint32_t binding, uint32_t w, uint32_t h)
+    bool EnsureTexture(Slot slot, uint32_t w, uint32_t h)
     {
         uint32_t tw, th;
-        BindingSize(binding, w, h, tw, th);
-        Texture& t = textures[binding];
+        SlotSize(slot, w, h, tw, th);
+        Texture& t = textures[slot];
         if (t.texture && t.width == tw && t.height == th)
             return true;
-        device.WaitIdle();
-        return CreateTexture(t, IsUintBinding(binding) ? rhi::Format::R32_UINT : rhi::Format::RGBA32_SFLOAT, tw, th,
-                             "LabOutput");
+        device.DestroyTexture(t.texture);
+        t = {};
+        rhi::TextureDesc td;
+        td.format = IsUint(slot) ? rhi::Format::R32_UINT : rhi::Format::RGBA32_SFLOAT;
+        td.width = tw;
+        td.height = th;
+        td.usage = rhi::TEXTURE_USAGE_STORAGE | rhi::TEXTURE_USAGE_COPY_SOURCE;
+        td.name = "LabOutput";
+        if (!Check(device.CreateTexture(td, t.texture), "CreateTexture"))
+            return false;
+        t.width = tw;
+        t.height = th;
+        return true;
     }
 
-    // Records barriers moving 'list' into 'after' (skipping textures already there and read-only).
-    void Transition(const std::vector<Texture*>& list, rhi::TextureState after)
+    // Records barriers moving 'slots' to 'after'.
+    void Transition(const std::vector<Slot>& slots, rhi::TextureState after)
     {
         std::vector<rhi::TextureBarrier> barriers;
-        for (Texture* t : list)
+        for (Slot s : slots)
         {
-            // Read-write to read-write still needs a barrier (write-after-write between dispatches).
-            barriers.push_back({t->texture, t->state, after});
-            t->state = after;
+            barriers.push_back({textures[s].texture, textures[s].state, after});
+            textures[s].state = after;
         }
         rhi::BarrierDesc bd;
         bd.textures = barriers.data();
@@ -405,114 +480,78 @@ struct SceneLab::Impl
         device.CmdBarrier(*commandBuffer, bd);
     }
 
-    void Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
-                const RenderParams& p, uint32_t seed, uint32_t signals)
+    static std::vector<Slot> SlotsOf(const std::vector<Pass>& passes)
     {
-        gpu::LabConstants k = {};
-        CopyMatrix(k.gWorldToView, cam.worldToView);
-        CopyMatrix(k.gViewToClip, cam.viewToClip);
-        CopyMatrix(k.gWorldToViewPrev, cam.worldToViewPrev);
-        CopyMatrix(k.gViewToClipPrev, cam.viewToClipPrev);
-        k.gCameraPos = {cam.position[0], cam.position[1], cam.position[2], 0.0f};
-        k.gCameraPosPrev = {cam.positionPrev[0], cam.positionPrev[1], cam.positionPrev[2], 0.0f};
-        k.gSkyZenith = Vec4(scene.sky.zenith, 0.0f);
-        k.gSkyHorizon = Vec4(scene.sky.horizon, 0.0f);
-        k.gSkyGround = Vec4(scene.sky.ground, 0.0f);
-        k.gSize = {p.width, p.height, p.frameIndex, seed};
-        k.gCounts = {uint32_t(scene.objects.size()), uint32_t(scene.lights.size()), p.lightIndex, signals};
-        k.gOptions = {p.bounces, p.frameIndex > 0 ? 1u : 0u, p.directLighting ? 1u : 0u, 0u};
-        std::memcpy(device.MapBuffer(*constants), &k, sizeof(k));
-
-        auto* objs = static_cast<gpu::LabObject*>(device.MapBuffer(*objects));
-        auto* mats = static_cast<gpu::LabMaterial*>(device.MapBuffer(*materials));
-        for (size_t i = 0; i < scene.objects.size(); i++)
-        {
-            const Object& o = scene.objects[i];
-            gpu::LabObject g = {};
-            g.info = {uint32_t(o.type), uint32_t(i), 0u, 0u};
-            if (o.type == PrimitiveType::SPHERE)
-                g.size = {o.radius, o.radius, o.radius, 0.0f};
-            else
-                g.size = {0.5f * o.size.x, 0.5f * o.size.y, 0.5f * o.size.z, 0.0f};
-            const ObjectState* states[2] = {&cur.objects[i], &prev.objects[i]};
-            for (uint32_t slot = 0; slot < 2; slot++)
-            {
-                const float* R = states[slot]->rotation;
-                const Float3& T = states[slot]->position;
-                const float t[3] = {T.x, T.y, T.z};
-                for (uint32_t row = 0; row < 3; row++)
-                    g.xform[slot * 3 + row] = {R[row * 3 + 0], R[row * 3 + 1], R[row * 3 + 2], t[row]};
-            }
-            g.info.z = std::memcmp(g.xform, g.xform + 3, sizeof(gpu::vec4) * 3) == 0 ? 1u : 0u;
-            objs[i] = g;
-            const Material& m = o.material;
-            mats[i].albedoRoughness = Vec4(m.albedo, m.roughness);
-            mats[i].emissionMetalness = Vec4(m.emission, m.metalness);
-        }
-
-        auto* ls = static_cast<gpu::LabLight*>(device.MapBuffer(*lights));
-        for (size_t i = 0; i < scene.lights.size(); i++)
-        {
-            const LightState* states[2] = {&cur.lights[i], &prev.lights[i]};
-            gpu::LabLight g = {};
-            g.info = {uint32_t(scene.lights[i].type), states[0]->enabled ? 1u : 0u, states[1]->enabled ? 1u : 0u, 0u};
-            for (uint32_t slot = 0; slot < 2; slot++)
-            {
-                const LightState& s = *states[slot];
-                if (s.type == LightType::SUN)
-                    g.posDir[slot] = Vec4(s.direction, s.cosAngularRadius);
-                else
-                    g.posDir[slot] = Vec4(s.position, s.radius);
-                g.intensity[slot] = Vec4(s.intensity, s.tanAngularRadius);
-            }
-            ls[i] = g;
-        }
+        std::vector<Slot> slots;
+        for (const Pass& pass : passes)
+            for (const Output& o : pass.outputs)
+                slots.push_back(o.slot);
+        return slots;
     }
 
-    // Allocates and fills the set of 'pass'; outputs not in 'used' are bound to a dummy.
-    bool BindPass(PassIndex pass, const std::vector<uint32_t>& used, rhi::DescriptorSet*& set)
+    // Creates the pipelines and textures of 'passes' and a descriptor set for each.
+    bool PreparePasses(const std::vector<Pass>& passes, uint32_t w, uint32_t h, std::vector<rhi::DescriptorSet*>& sets)
     {
-        if (!Check(device.AllocateDescriptorSet(*descriptorPool, *pipelines[pass], 0, set), "AllocateDescriptorSet"))
-            return false;
-        std::vector<rhi::DescriptorWrite> writes;
-        auto buffer = [&](uint32_t binding, rhi::DescriptorType type, rhi::Buffer* b) {
-            rhi::DescriptorWrite w;
-            w.binding = binding;
-            w.type = type;
-            w.buffer = b;
-            writes.push_back(w);
-        };
-        buffer(LAB_BINDING_CONSTANTS, rhi::DescriptorType::UNIFORM_BUFFER, constants);
-        buffer(LAB_BINDING_OBJECTS, rhi::DescriptorType::UNIFORM_BUFFER, objects);
-        buffer(LAB_BINDING_MATERIALS, rhi::DescriptorType::UNIFORM_BUFFER, materials);
-        buffer(LAB_BINDING_LIGHTS, rhi::DescriptorType::UNIFORM_BUFFER, lights);
-        for (uint32_t b : PassOutputs(pass))
+        sets.clear();
+        for (const Pass& pass : passes)
         {
-            bool isUsed = std::find(used.begin(), used.end(), b) != used.end();
-            rhi::DescriptorWrite w;
-            w.binding = b;
-            w.type = rhi::DescriptorType::STORAGE_TEXTURE;
-            w.texture = isUsed ? textures[b].texture : (IsUintBinding(b) ? dummyUint.texture : dummyFloat.texture);
-            writes.push_back(w);
+            rhi::Pipeline* pipeline = GetPipeline(pass);
+            if (!pipeline)
+                return false;
+            for (const Output& o : pass.outputs)
+                if (!EnsureTexture(o.slot, w, h))
+                    return false;
+            rhi::DescriptorSet* set = nullptr;
+            if (!Check(device.AllocateDescriptorSet(*descriptorPool, *pipeline, 0, set), "AllocateDescriptorSet"))
+                return false;
+            std::vector<rhi::DescriptorWrite> writes;
+            rhi::Buffer* buffers[] = {constants, objects, materials, lights};
+            uint32_t bufferBindings[] = {LAB_BINDING_CONSTANTS, LAB_BINDING_OBJECTS, LAB_BINDING_MATERIALS,
+                                         LAB_BINDING_LIGHTS};
+            for (int i = 0; i < 4; i++)
+            {
+                rhi::DescriptorWrite wr;
+                wr.binding = bufferBindings[i];
+                wr.type = rhi::DescriptorType::UNIFORM_BUFFER;
+                wr.buffer = buffers[i];
+                writes.push_back(wr);
+            }
+            for (const Output& o : pass.outputs)
+            {
+                rhi::DescriptorWrite wr;
+                wr.binding = o.binding;
+                wr.type = rhi::DescriptorType::STORAGE_TEXTURE;
+                wr.texture = textures[o.slot].texture;
+                writes.push_back(wr);
+            }
+            device.UpdateDescriptorSet(*set, writes.data(), uint32_t(writes.size()));
+            sets.push_back(set);
         }
-        device.UpdateDescriptorSet(*set, writes.data(), uint32_t(writes.size()));
         return true;
     }
 
-    // Records copies of 'bindings' into the readback buffer (grown first if needed; only between
-    // submissions) and returns each one's byte offset.
-    bool RecordReadback(const std::vector<uint32_t>& bindings, std::vector<uint64_t>& offsets)
+    void RecordDispatch(const Pass& pass, rhi::DescriptorSet& set, uint32_t gridW, uint32_t gridH,
+                        const gpu::LabTruthChunk* chunk)
     {
-        std::vector<Texture*> list;
+        rhi::Pipeline& pipeline = *pipelines[pass.shader];
+        device.CmdBindPipeline(*commandBuffer, pipeline);
+        device.CmdBindDescriptorSet(*commandBuffer, pipeline, 0, set);
+        if (chunk)
+            device.CmdPushConstants(*commandBuffer, pipeline, chunk, sizeof(*chunk));
+        device.CmdDispatch(*commandBuffer, DivideUp(gridW, LAB_GROUP_X), DivideUp(gridH, LAB_GROUP_Y), 1);
+    }
+
+    // Records copies of 'slots' into the readback buffer (grown first if needed; only between
+    // submissions) and returns each one's byte offset.
+    bool RecordReadback(const std::vector<Slot>& slots, std::vector<uint64_t>& offsets)
+    {
         uint64_t total = 0;
         offsets.clear();
-        for (uint32_t b : bindings)
+        for (Slot s : slots)
         {
-            const Texture& t = textures[b];
             offsets.push_back(total);
             // Copy offsets must be multiples of the texel size: keep every region 16-byte aligned.
-            total += (uint64_t(t.width) * t.height * (IsUintBinding(b) ? 4 : 16) + 15) & ~uint64_t(15);
-            list.push_back(&textures[b]);
+            total += (uint64_t(textures[s].width) * textures[s].height * (IsUint(s) ? 4 : 16) + 15) & ~uint64_t(15);
         }
         if (total == 0)
             return true;
@@ -520,22 +559,20 @@ struct SceneLab::Impl
         {
             device.DestroyBuffer(readback);
             readback = nullptr;
+            readbackSize = 0;
             rhi::BufferDesc bd;
             bd.size = total;
             bd.usage = rhi::BUFFER_USAGE_COPY_DESTINATION;
             bd.location = rhi::MemoryLocation::HOST_READBACK;
             bd.name = "LabReadback";
             if (!Check(device.CreateBuffer(bd, readback), "CreateBuffer (readback)"))
-            {
-                readbackSize = 0;
                 return false;
-            }
             readbackSize = total;
         }
         // Compute writes -> copy reads.
-        Transition(list, {rhi::ACCESS_COPY_SOURCE, rhi::Layout::COPY_SOURCE});
-        for (size_t i = 0; i < bindings.size(); i++)
-            device.CmdCopyTextureToBuffer(*commandBuffer, *readback, offsets[i], *textures[bindings[i]].texture);
+        Transition(slots, {rhi::ACCESS_COPY_SOURCE, rhi::Layout::COPY_SOURCE});
+        for (size_t i = 0; i < slots.size(); i++)
+            device.CmdCopyTextureToBuffer(*commandBuffer, *readback, offsets[i], *textures[slots[i]].texture);
         // Copy writes -> host reads after the submission completed.
         rhi::BufferBarrier bb = {readback, rhi::ACCESS_COPY_DESTINATION, rhi::ACCESS_HOST_READ};
         rhi::BarrierDesc bd;
@@ -550,8 +587,136 @@ struct SceneLab::Impl
         return reinterpret_cast<const float*>(static_cast<const uint8_t*>(device.MapBuffer(*readback)) + offset);
     }
 
+    void Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
+                const RenderParams& p, uint32_t seed);
+    void StoreNoisy(Slot slot, const float* d, uint32_t w, uint32_t h, FrameData& out);
     bool Render(const Scene& scene, const RenderParams& p, FrameData& out, std::string& err);
 };
+
+void SceneLab::Impl::Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
+                            const RenderParams& p, uint32_t seed)
+{
+    gpu::LabConstants k = {};
+    CopyMatrix(k.gWorldToView, cam.worldToView);
+    CopyMatrix(k.gViewToClip, cam.viewToClip);
+    CopyMatrix(k.gWorldToViewPrev, cam.worldToViewPrev);
+    CopyMatrix(k.gViewToClipPrev, cam.viewToClipPrev);
+    k.gCameraPos = {cam.position[0], cam.position[1], cam.position[2], 0.0f};
+    k.gCameraPosPrev = {cam.positionPrev[0], cam.positionPrev[1], cam.positionPrev[2], 0.0f};
+    k.gSkyZenith = Vec4(scene.sky.zenith, 0.0f);
+    k.gSkyHorizon = Vec4(scene.sky.horizon, 0.0f);
+    k.gSkyGround = Vec4(scene.sky.ground, 0.0f);
+    k.gSize = {p.width, p.height, p.frameIndex, seed};
+    k.gCounts = {uint32_t(scene.objects.size()), uint32_t(scene.lights.size()), p.lightIndex, 0u};
+    k.gOptions = {0u, p.frameIndex > 0 ? 1u : 0u, 0u, 0u};
+    std::memcpy(device.MapBuffer(*constants), &k, sizeof(k));
+
+    auto* objs = static_cast<gpu::LabObject*>(device.MapBuffer(*objects));
+    auto* mats = static_cast<gpu::LabMaterial*>(device.MapBuffer(*materials));
+    for (size_t i = 0; i < scene.objects.size(); i++)
+    {
+        const Object& o = scene.objects[i];
+        gpu::LabObject g = {};
+        g.info = {uint32_t(o.type), uint32_t(i), 0u, 0u};
+        if (o.type == PrimitiveType::SPHERE)
+            g.size = {o.radius, o.radius, o.radius, 0.0f};
+        else
+            g.size = {0.5f * o.size.x, 0.5f * o.size.y, 0.5f * o.size.z, 0.0f};
+        const ObjectState* states[2] = {&cur.objects[i], &prev.objects[i]};
+        for (uint32_t slot = 0; slot < 2; slot++)
+        {
+            const float* R = states[slot]->rotation;
+            const Float3& T = states[slot]->position;
+            const float t[3] = {T.x, T.y, T.z};
+            for (uint32_t row = 0; row < 3; row++)
+                g.xform[slot * 3 + row] = {R[row * 3 + 0], R[row * 3 + 1], R[row * 3 + 2], t[row]};
+        }
+        g.info.z = std::memcmp(g.xform, g.xform + 3, sizeof(gpu::vec4) * 3) == 0 ? 1u : 0u;
+        objs[i] = g;
+        const Material& m = o.material;
+        mats[i].albedoRoughness = Vec4(m.albedo, m.roughness);
+        mats[i].emissionMetalness = Vec4(m.emission, m.metalness);
+    }
+
+    auto* ls = static_cast<gpu::LabLight*>(device.MapBuffer(*lights));
+    for (size_t i = 0; i < scene.lights.size(); i++)
+    {
+        const LightState* states[2] = {&cur.lights[i], &prev.lights[i]};
+        gpu::LabLight g = {};
+        g.info = {uint32_t(scene.lights[i].type), states[0]->enabled ? 1u : 0u, states[1]->enabled ? 1u : 0u, 0u};
+        for (uint32_t slot = 0; slot < 2; slot++)
+        {
+            const LightState& s = *states[slot];
+            if (s.type == LightType::SUN)
+                g.posDir[slot] = Vec4(s.direction, s.cosAngularRadius);
+            else
+                g.posDir[slot] = Vec4(s.position, s.radius);
+            g.intensity[slot] = Vec4(s.intensity, s.tanAngularRadius);
+        }
+        ls[i] = g;
+    }
+}
+
+void SceneLab::Impl::StoreNoisy(Slot slot, const float* d, uint32_t w, uint32_t h, FrameData& out)
+{
+    switch (slot)
+    {
+    case SLOT_GBUFFER0:
+        out.viewZ = Extract(d, w, h, 0, 1);
+        out.motion2d = Extract(d, w, h, 1, 2);
+        out.objectIndex = Extract(d, w, h, 3, 1);
+        break;
+    case SLOT_NORMAL_ROUGHNESS:
+        out.normalRoughness = Extract(d, w, h, 0, 4);
+        break;
+    case SLOT_MV3D:
+        out.motion3d = Extract(d, w, h, 0, 3);
+        break;
+    case SLOT_ALBEDO:
+        out.albedo = Extract(d, w, h, 0, 3);
+        break;
+    case SLOT_SPEC_ALBEDO:
+        out.specularAlbedo = Extract(d, w, h, 0, 3);
+        break;
+    case SLOT_SHADOW:
+        out.shadowData = Extract(d, w, h, 0, 2);
+        out.shadowVisibility = Extract(d, w, h, 2, 1);
+        break;
+    case SLOT_HIT_MASK:
+        out.shadowHitMaskWidth = DivideUp(w, 8);
+        out.shadowHitMaskHeight = DivideUp(h, 4);
+        out.shadowHitMask.resize(size_t(out.shadowHitMaskWidth) * out.shadowHitMaskHeight);
+        std::memcpy(out.shadowHitMask.data(), d, out.shadowHitMask.size() * sizeof(uint32_t));
+        break;
+    case SLOT_TRANSLUCENCY:
+        out.translucency = Extract(d, w, h, 0, 4);
+        break;
+    case SLOT_TRANSLUCENCY_DATA:
+        out.translucencyShadowData = Extract(d, w, h, 0, 2);
+        break;
+    case SLOT_DIFFUSE:
+        out.diffuse = Extract(d, w, h, 0, 4);
+        break;
+    case SLOT_SPECULAR:
+        out.specular = Extract(d, w, h, 0, 4);
+        break;
+    case SLOT_GRADIENTS:
+    {
+        uint32_t gw = DivideUp(w, 3), gh = DivideUp(h, 3);
+        out.gradientsRaw = Extract(d, gw, gh, 0, 4);
+        out.gradients = Image(gw, gh, 2);
+        for (size_t px = 0; px < out.gradients.pixelCount(); px++)
+            for (uint32_t ch = 0; ch < 2; ch++)
+            {
+                float delta = d[px * 4 + ch * 2], maxLum = d[px * 4 + ch * 2 + 1];
+                out.gradients.pixels[px * 2 + ch] = maxLum > 0.0f ? std::min(delta / maxLum, 1.0f) : 0.0f;
+            }
+        break;
+    }
+    default:
+        break;
+    }
+}
 
 bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData& out, std::string& err)
 {
@@ -562,7 +727,7 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
     };
 
     // Parameters.
-    if (!pipelines[PASS_PRIMARY])
+    if (!isValid)
         return fail("the scene lab is not valid: " + error);
     if (p.width < 1 || p.height < 1 || p.width > kMaxSize || p.height > kMaxSize)
         return fail("size " + std::to_string(p.width) + "x" + std::to_string(p.height) + " out of range (1.." +
@@ -661,167 +826,69 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
     }
 
     // What the GPU has to do.
-    uint32_t primarySignals = 0;
     const uint32_t partSignal[PART_NUM] = {0, SIGNAL_SHADOW, SIGNAL_TRANSLUCENCY, SIGNAL_DIFFUSE, SIGNAL_SPECULAR,
                                            SIGNAL_GRADIENTS, SIGNAL_SHADOW, SIGNAL_TRANSLUCENCY, SIGNAL_DIFFUSE,
                                            SIGNAL_SPECULAR};
-    for (uint32_t part = PART_SHADOW; part <= PART_SPECULAR; part++)
+    std::vector<Pass> noisyPasses;
+    for (uint32_t part = PART_GBUFFER; part <= PART_GRADIENTS; part++)
         if (wanted[part] && !have[part])
-            primarySignals |= partSignal[part];
-    const bool runPrimary = primarySignals != 0 || !have[PART_GBUFFER];
-    const bool runGradients = wanted[PART_GRADIENTS] && !have[PART_GRADIENTS];
+            noisyPasses.push_back(NoisyPass(partSignal[part], p));
+    std::vector<Pass> truthPasses;
     uint32_t truthSignals = 0;
     for (uint32_t part = PART_SHADOW_TRUTH; part < PART_NUM; part++)
         if (wanted[part] && !have[part])
+        {
+            truthPasses.push_back(TruthPass(partSignal[part], p));
             truthSignals |= partSignal[part];
-    out.noisyFromCache = !runPrimary && !runGradients;
-    out.truthFromCache = p.truthSpp > 0 && truthSignals == 0;
+        }
+    out.noisyFromCache = noisyPasses.empty();
+    out.truthFromCache = p.truthSpp > 0 && truthPasses.empty();
+    if (noisyPasses.empty() && truthPasses.empty())
+        return true;
 
-    if (runPrimary || runGradients || truthSignals)
-        Upload(scene, cur, prev, out.camera, p, seed, primarySignals | truthSignals);
+    Upload(scene, cur, prev, out.camera, p, seed);
+    if (!Check(device.ResetDescriptorPool(*descriptorPool), "ResetDescriptorPool"))
+        return fail(error);
 
-    if (runPrimary || runGradients)
+    // Noisy signals, G-buffer and gradients: one submission.
+    if (!noisyPasses.empty())
     {
         auto t0 = Clock::now();
-        std::vector<uint32_t> primaryOut = {LAB_BINDING_GBUFFER0, LAB_BINDING_NORMAL_ROUGHNESS, LAB_BINDING_MV3D,
-                                            LAB_BINDING_ALBEDO, LAB_BINDING_SPEC_ALBEDO};
-        if (primarySignals & SIGNAL_SHADOW)
-            primaryOut.insert(primaryOut.end(), {LAB_BINDING_SHADOW, LAB_BINDING_HIT_MASK});
-        if (primarySignals & SIGNAL_TRANSLUCENCY)
-            primaryOut.insert(primaryOut.end(), {LAB_BINDING_TRANSLUCENCY, LAB_BINDING_TRANSLUCENCY_DATA});
-        if (primarySignals & SIGNAL_DIFFUSE)
-            primaryOut.push_back(LAB_BINDING_DIFFUSE);
-        if (primarySignals & SIGNAL_SPECULAR)
-            primaryOut.push_back(LAB_BINDING_SPECULAR);
-        if (!runPrimary)
-            primaryOut.clear();
-        std::vector<uint32_t> readList = primaryOut;
-        if (runGradients)
-            readList.push_back(LAB_BINDING_GRADIENTS);
-        for (uint32_t b : readList)
-            if (!EnsureTexture(b, w, h))
-                return fail(error);
-
-        if (!Check(device.ResetDescriptorPool(*descriptorPool), "ResetDescriptorPool") ||
+        std::vector<rhi::DescriptorSet*> sets;
+        if (!PreparePasses(noisyPasses, w, h, sets) ||
             !Check(device.BeginCommandBuffer(*commandBuffer), "BeginCommandBuffer"))
             return fail(error);
-        std::vector<Texture*> list = {&dummyFloat, &dummyUint};
-        for (uint32_t b : readList)
-            list.push_back(&textures[b]);
-        // Previous copies / nothing -> compute writes (old content is discarded).
-        for (Texture* t : list)
-            t->state = {rhi::ACCESS_UNKNOWN, rhi::Layout::UNDEFINED};
-        Transition(list, {rhi::ACCESS_SHADER_READ_WRITE, rhi::Layout::GENERAL});
-
-        if (runPrimary)
+        std::vector<Slot> slots = SlotsOf(noisyPasses);
+        // Whatever was there (a previous copy, or nothing) -> compute writes; content discarded.
+        for (Slot s : slots)
+            textures[s].state = {rhi::ACCESS_UNKNOWN, rhi::Layout::UNDEFINED};
+        Transition(slots, {rhi::ACCESS_SHADER_READ_WRITE, rhi::Layout::GENERAL});
+        for (size_t i = 0; i < noisyPasses.size(); i++)
         {
-            rhi::DescriptorSet* set = nullptr;
-            if (!BindPass(PASS_PRIMARY, primaryOut, set))
-                return fail(error);
-            device.CmdBindPipeline(*commandBuffer, *pipelines[PASS_PRIMARY]);
-            device.CmdBindDescriptorSet(*commandBuffer, *pipelines[PASS_PRIMARY], 0, *set);
-            device.CmdDispatch(*commandBuffer, DivideUp(w, LAB_GROUP_X), DivideUp(h, LAB_GROUP_Y), 1);
-        }
-        if (runGradients)
-        {
-            rhi::DescriptorSet* set = nullptr;
-            if (!BindPass(PASS_GRADIENTS, {LAB_BINDING_GRADIENTS}, set))
-                return fail(error);
-            device.CmdBindPipeline(*commandBuffer, *pipelines[PASS_GRADIENTS]);
-            device.CmdBindDescriptorSet(*commandBuffer, *pipelines[PASS_GRADIENTS], 0, *set);
-            device.CmdDispatch(*commandBuffer, DivideUp(DivideUp(w, 3), LAB_GROUP_X),
-                               DivideUp(DivideUp(h, 3), LAB_GROUP_Y), 1);
+            bool isGradients = noisyPasses[i].outputs[0].slot == SLOT_GRADIENTS;
+            RecordDispatch(noisyPasses[i], *sets[i], isGradients ? DivideUp(w, 3) : w,
+                           isGradients ? DivideUp(h, 3) : h, nullptr);
         }
         std::vector<uint64_t> offsets;
-        if (!RecordReadback(readList, offsets) ||
-            !Check(device.EndCommandBuffer(*commandBuffer), "EndCommandBuffer") ||
+        if (!RecordReadback(slots, offsets) || !Check(device.EndCommandBuffer(*commandBuffer), "EndCommandBuffer") ||
             !Check(device.SubmitAndWait(*commandBuffer), "SubmitAndWait"))
             return fail(error);
-
-        for (size_t i = 0; i < readList.size(); i++)
-        {
-            const float* d = ReadbackFloats(offsets[i]);
-            switch (readList[i])
-            {
-            case LAB_BINDING_GBUFFER0:
-                out.viewZ = Extract(d, w, h, 0, 1);
-                out.motion2d = Extract(d, w, h, 1, 2);
-                out.objectIndex = Extract(d, w, h, 3, 1);
-                break;
-            case LAB_BINDING_NORMAL_ROUGHNESS:
-                out.normalRoughness = Extract(d, w, h, 0, 4);
-                break;
-            case LAB_BINDING_MV3D:
-                out.motion3d = Extract(d, w, h, 0, 3);
-                break;
-            case LAB_BINDING_ALBEDO:
-                out.albedo = Extract(d, w, h, 0, 3);
-                break;
-            case LAB_BINDING_SPEC_ALBEDO:
-                out.specularAlbedo = Extract(d, w, h, 0, 3);
-                break;
-            case LAB_BINDING_SHADOW:
-                out.shadowData = Extract(d, w, h, 0, 2);
-                out.shadowVisibility = Extract(d, w, h, 2, 1);
-                break;
-            case LAB_BINDING_HIT_MASK:
-                out.shadowHitMaskWidth = DivideUp(w, 8);
-                out.shadowHitMaskHeight = DivideUp(h, 4);
-                out.shadowHitMask.resize(size_t(out.shadowHitMaskWidth) * out.shadowHitMaskHeight);
-                std::memcpy(out.shadowHitMask.data(), d, out.shadowHitMask.size() * sizeof(uint32_t));
-                break;
-            case LAB_BINDING_TRANSLUCENCY:
-                out.translucency = Extract(d, w, h, 0, 4);
-                break;
-            case LAB_BINDING_TRANSLUCENCY_DATA:
-                out.translucencyShadowData = Extract(d, w, h, 0, 2);
-                break;
-            case LAB_BINDING_DIFFUSE:
-                out.diffuse = Extract(d, w, h, 0, 4);
-                break;
-            case LAB_BINDING_SPECULAR:
-                out.specular = Extract(d, w, h, 0, 4);
-                break;
-            case LAB_BINDING_GRADIENTS:
-            {
-                uint32_t gw = DivideUp(w, 3), gh = DivideUp(h, 3);
-                out.gradientsRaw = Extract(d, gw, gh, 0, 4);
-                out.gradients = Image(gw, gh, 2);
-                for (size_t px = 0; px < out.gradients.pixelCount(); px++)
-                    for (uint32_t ch = 0; ch < 2; ch++)
-                    {
-                        float delta = d[px * 4 + ch * 2], maxLum = d[px * 4 + ch * 2 + 1];
-                        out.gradients.pixels[px * 2 + ch] = maxLum > 0.0f ? std::min(delta / maxLum, 1.0f) : 0.0f;
-                    }
-                break;
-            }
-            default:
-                break;
-            }
-        }
+        for (size_t i = 0; i < slots.size(); i++)
+            StoreNoisy(slots[i], ReadbackFloats(offsets[i]), w, h, out);
         out.noisyMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
     }
 
-    if (truthSignals)
+    // Ground truth: chunks of truthChunkSpp samples, one submission each, every signal per chunk.
+    if (!truthPasses.empty())
     {
         auto t0 = Clock::now();
-        std::vector<uint32_t> accs = PassOutputs(PASS_TRUTH);
-        for (uint32_t b : accs)
-            if (!EnsureTexture(b, w, h))
-                return fail(error);
-        std::vector<Texture*> list;
-        for (uint32_t b : accs)
-        {
-            list.push_back(&textures[b]);
-            textures[b].state = {rhi::ACCESS_UNKNOWN, rhi::Layout::UNDEFINED};
-        }
-
-        if (!Check(device.ResetDescriptorPool(*descriptorPool), "ResetDescriptorPool"))
+        std::vector<rhi::DescriptorSet*> sets;
+        if (!PreparePasses(truthPasses, w, h, sets))
             return fail(error);
-        rhi::DescriptorSet* set = nullptr;
-        if (!BindPass(PASS_TRUTH, accs, set))
-            return fail(error);
-
+        std::vector<Slot> slots = SlotsOf(truthPasses);
+        for (Slot s : slots)
+            textures[s].state = {rhi::ACCESS_UNKNOWN, rhi::Layout::UNDEFINED};
+        std::vector<uint64_t> offsets;
         for (uint32_t first = 0; first < p.truthSpp; first += p.truthChunkSpp)
         {
             uint32_t count = std::min(p.truthChunkSpp, p.truthSpp - first);
@@ -829,67 +896,70 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
             if (!Check(device.BeginCommandBuffer(*commandBuffer), "BeginCommandBuffer"))
                 return fail(error);
             // Previous chunk's writes (earlier submission) -> this chunk's read-modify-write.
-            Transition(list, {rhi::ACCESS_SHADER_READ_WRITE, rhi::Layout::GENERAL});
-            device.CmdBindPipeline(*commandBuffer, *pipelines[PASS_TRUTH]);
-            device.CmdBindDescriptorSet(*commandBuffer, *pipelines[PASS_TRUTH], 0, *set);
+            Transition(slots, {rhi::ACCESS_SHADER_READ_WRITE, rhi::Layout::GENERAL});
             gpu::LabTruthChunk chunk = {{first, count, 0u, 0u}};
-            device.CmdPushConstants(*commandBuffer, *pipelines[PASS_TRUTH], &chunk, sizeof(chunk));
-            device.CmdDispatch(*commandBuffer, DivideUp(w, LAB_GROUP_X), DivideUp(h, LAB_GROUP_Y), 1);
-            std::vector<uint64_t> offsets;
-            if (last && !RecordReadback(accs, offsets))
+            for (size_t i = 0; i < truthPasses.size(); i++)
+                RecordDispatch(truthPasses[i], *sets[i], w, h, &chunk);
+            if (last && !RecordReadback(slots, offsets))
                 return fail(error);
             if (!Check(device.EndCommandBuffer(*commandBuffer), "EndCommandBuffer") ||
                 !Check(device.SubmitAndWait(*commandBuffer), "SubmitAndWait"))
                 return fail(error);
             if (desc.truthProgress)
                 desc.truthProgress(first + count, p.truthSpp);
-            if (!last)
-                continue;
+        }
 
-            // Sums -> means. Sky pixels (the truth pass leaves them at 0) get the sky values.
-            const float* accShadow = ReadbackFloats(offsets[0]);
-            const float* accTrans = ReadbackFloats(offsets[1]);
-            const float* accDiff = ReadbackFloats(offsets[2]);
-            const float* accSpec = ReadbackFloats(offsets[3]);
-            const float* accCount = ReadbackFloats(offsets[4]);
-            const float n = float(p.truthSpp);
-            if (truthSignals & SIGNAL_SHADOW)
-                out.shadowTruth = Image(w, h, 1);
-            if (truthSignals & SIGNAL_TRANSLUCENCY)
-                out.translucencyTruth = Image(w, h, 4);
-            if (truthSignals & SIGNAL_DIFFUSE)
-                out.diffuseTruth = Image(w, h, 4);
-            if (truthSignals & SIGNAL_SPECULAR)
-                out.specularTruth = Image(w, h, 4);
-            for (size_t px = 0; px < size_t(w) * h; px++)
+        // Sums -> means. Sky pixels (left at 0 by the truth pass) get the sky values.
+        auto acc = [&](Slot slot) {
+            for (size_t i = 0; i < slots.size(); i++)
+                if (slots[i] == slot)
+                    return ReadbackFloats(offsets[i]);
+            return static_cast<const float*>(nullptr);
+        };
+        const float n = float(p.truthSpp);
+        const size_t pixelNum = size_t(w) * h;
+        auto isSky = [&](size_t px) { return out.viewZ.pixels[px] >= kSkyViewZ; };
+        if (truthSignals & SIGNAL_SHADOW)
+        {
+            const float* a = acc(SLOT_ACC_SHADOW_A);
+            out.shadowTruth = Image(w, h, 1);
+            for (size_t px = 0; px < pixelNum; px++)
+                out.shadowTruth.pixels[px] = isSky(px) ? 1.0f : a[px * 4] / n;
+        }
+        if (truthSignals & SIGNAL_TRANSLUCENCY)
+        {
+            const float* a = acc(SLOT_ACC_TRANSLUCENCY_A);
+            const float* b = acc(SLOT_ACC_TRANSLUCENCY_B);
+            out.translucencyTruth = Image(w, h, 4);
+            for (size_t px = 0; px < pixelNum; px++)
             {
-                bool sky = out.viewZ.pixels[px] >= kSkyViewZ;
-                if (truthSignals & SIGNAL_SHADOW)
-                    out.shadowTruth.pixels[px] = sky ? 1.0f : accShadow[px * 4] / n;
-                if (truthSignals & SIGNAL_TRANSLUCENCY)
+                float* t = &out.translucencyTruth.pixels[px * 4];
+                t[0] = isSky(px) ? 1.0f : a[px * 4 + 3] / n;
+                for (int ch = 0; ch < 3; ch++)
                 {
-                    float* t = &out.translucencyTruth.pixels[px * 4];
-                    t[0] = sky ? 1.0f : accTrans[px * 4 + 3] / n;
-                    for (int ch = 0; ch < 3; ch++)
-                    {
-                        float lSum = accTrans[px * 4 + ch];
-                        t[1 + ch] = sky || lSum <= 0.0f ? 1.0f : std::min(accShadow[px * 4 + 1 + ch] / lSum, 1.0f);
-                    }
+                    float lSum = a[px * 4 + ch];
+                    t[1 + ch] = isSky(px) || lSum <= 0.0f ? 1.0f : std::min(b[px * 4 + ch] / lSum, 1.0f);
                 }
-                const float* accs2[2] = {accDiff, accSpec};
-                Image* dst[2] = {&out.diffuseTruth, &out.specularTruth};
-                const uint32_t bits[2] = {SIGNAL_DIFFUSE, SIGNAL_SPECULAR};
-                for (int k = 0; k < 2; k++)
-                {
-                    if (!(truthSignals & bits[k]))
-                        continue;
-                    float* t = &dst[k]->pixels[px * 4];
-                    const float* a = &accs2[k][px * 4];
-                    float hits = accCount[px * 4 + k];
-                    for (int ch = 0; ch < 3; ch++)
-                        t[ch] = sky ? 0.0f : a[ch] / n;
-                    t[3] = sky || hits <= 0.0f ? kNoHitDistance : a[3] / hits;
-                }
+            }
+        }
+        const uint32_t radianceSignals[2] = {SIGNAL_DIFFUSE, SIGNAL_SPECULAR};
+        const Slot radianceSlots[2][2] = {{SLOT_ACC_DIFFUSE_A, SLOT_ACC_DIFFUSE_B},
+                                          {SLOT_ACC_SPECULAR_A, SLOT_ACC_SPECULAR_B}};
+        Image* radianceTruth[2] = {&out.diffuseTruth, &out.specularTruth};
+        for (int k = 0; k < 2; k++)
+        {
+            if (!(truthSignals & radianceSignals[k]))
+                continue;
+            const float* a = acc(radianceSlots[k][0]);
+            const float* b = acc(radianceSlots[k][1]);
+            *radianceTruth[k] = Image(w, h, 4);
+            for (size_t px = 0; px < pixelNum; px++)
+            {
+                float* t = &radianceTruth[k]->pixels[px * 4];
+                float hits = b[px * 4];
+                for (int ch = 0; ch < 3; ch++)
+                    t[ch] = isSky(px) ? 0.0f : a[px * 4 + ch] / n;
+                t[3] = isSky(px) || hits <= 0.0f ? kNoHitDistance : a[px * 4 + 3] / hits;
             }
         }
         out.truthMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -923,15 +993,7 @@ SceneLab::SceneLab(nrd::rhi::Device& device, const SceneLabDesc& desc) : m_Impl(
 {
     m_Impl->desc = desc;
     m_Impl->cache.SetDirectory(desc.cacheDirectory);
-    if (!m_Impl->Create())
-    {
-        // Leave the object in a clean "invalid" state: no half-created pipelines used later.
-        for (rhi::Pipeline*& p : m_Impl->pipelines)
-        {
-            device.DestroyPipeline(p);
-            p = nullptr;
-        }
-    }
+    m_Impl->Create(); // On failure IsValid() is false and GetError() says why.
 }
 
 SceneLab::SceneLab(nrd::lab::VulkanContext& context, const SceneLabDesc& desc) : SceneLab(context.GetDevice(), desc)
@@ -942,7 +1004,7 @@ SceneLab::~SceneLab() = default;
 
 bool SceneLab::IsValid() const
 {
-    return m_Impl->pipelines[PASS_PRIMARY] != nullptr;
+    return m_Impl->isValid;
 }
 
 const std::string& SceneLab::GetError() const

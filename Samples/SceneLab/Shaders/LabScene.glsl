@@ -8,6 +8,14 @@
 
 #include "LabShared.glsl"
 #include "LabCommon.glsl"
+
+// Variant of the pass (see LabShared.glsl).
+#ifndef LAB_BOUNCES
+#  define LAB_BOUNCES 1
+#endif
+#ifndef LAB_DIRECT
+#  define LAB_DIRECT 1
+#endif
 #include "NRD.glsl"
 
 layout(set = 0, binding = LAB_BINDING_CONSTANTS, std140) uniform LabConstantsBlock
@@ -428,7 +436,7 @@ vec3 DirectLight(Surface s, vec3 V, uint slot, inout uint rng)
 //==================================================================================================
 
 // Radiance arriving at 'from' along 'dir' (unit): emission + direct light at the hit (+ one more
-// diffuse bounce if c.gOptions.x >= 2) or the sky. Returns the hit distance in 'hitDistance'
+// diffuse bounce if LAB_BOUNCES >= 2) or the sky. Returns the hit distance in 'hitDistance'
 // (NRD_FP16_MAX for the sky).
 vec3 IncomingRadiance(vec3 from, vec3 fromN, vec3 dir, uint slot, inout uint rng, out float hitDistance)
 {
@@ -441,21 +449,20 @@ vec3 IncomingRadiance(vec3 from, vec3 fromN, vec3 dir, uint slot, inout uint rng
     hitDistance = h.t;
     Surface s = GetSurface(h);
     vec3 L = s.emission + DirectLight(s, -dir, slot, rng);
-    if (c.gOptions.x >= 2u)
+#if LAB_BOUNCES >= 2
+    // Second bounce: cosine-sampled, weight = diffuse albedo (Lambert only).
+    vec3 d2 = BasisFromNormal(s.N) * SampleCosine(Next2(rng));
+    Hit h2 = TraceClosest(OffsetRay(s.pos, s.N), d2, LAB_NO_HIT, slot);
+    vec3 L2;
+    if (h2.object < 0)
+        L2 = SkyRadiance(d2);
+    else
     {
-        // Second bounce: cosine-sampled, weight = diffuse albedo (Lambert only).
-        vec3 d2 = BasisFromNormal(s.N) * SampleCosine(Next2(rng));
-        Hit h2 = TraceClosest(OffsetRay(s.pos, s.N), d2, LAB_NO_HIT, slot);
-        vec3 L2;
-        if (h2.object < 0)
-            L2 = SkyRadiance(d2);
-        else
-        {
-            Surface s2 = GetSurface(h2);
-            L2 = s2.emission + DirectLight(s2, -d2, slot, rng);
-        }
-        L += s.diffuseAlbedo * L2;
+        Surface s2 = GetSurface(h2);
+        L2 = s2.emission + DirectLight(s2, -d2, slot, rng);
     }
+    L += s.diffuseAlbedo * L2;
+#endif
     return L;
 }
 
@@ -490,23 +497,23 @@ vec3 DirectSpecular(Surface s, vec3 V, uint slot, inout uint rng)
     return sum / SpecularAlbedo(s.F0, NoV, s.linearRoughness);
 }
 
-// Diffuse: direct light (if c.gOptions.z != 0) + one cosine-sampled ray; the Lambert weight
+// Diffuse: direct light (if LAB_DIRECT) + one cosine-sampled ray; the Lambert weight
 // (albedo) is left out (demodulated), so the value is irradiance / pi in expectation.
 vec4 DiffuseSample(Surface s, uint slot, inout uint rng)
 {
-    vec3 direct = c.gOptions.z != 0u ? DirectDiffuse(s, slot, rng) : vec3(0.0);
+    vec3 direct = LAB_DIRECT != 0 ? DirectDiffuse(s, slot, rng) : vec3(0.0);
     vec3 dir = BasisFromNormal(s.N) * SampleCosine(Next2(rng));
     float hitDistance;
     vec3 L = IncomingRadiance(s.pos, s.N, dir, slot, rng, hitDistance);
     return vec4(direct + L, hitDistance);
 }
 
-// Specular: direct light (if c.gOptions.z != 0) + one GGX VNDF-sampled reflection, weight
+// Specular: direct light (if LAB_DIRECT) + one GGX VNDF-sampled reflection, weight
 // F * G2 / G1, all divided by the specular directional albedo (demodulated). Reflections that end
 // below the horizon contribute 0 (hit distance NRD_FP16_MAX).
 vec4 SpecularSample(Surface s, vec3 V, uint slot, inout uint rng)
 {
-    vec3 direct = c.gOptions.z != 0u ? DirectSpecular(s, V, slot, rng) : vec3(0.0);
+    vec3 direct = LAB_DIRECT != 0 ? DirectSpecular(s, V, slot, rng) : vec3(0.0);
     float alpha = max(s.linearRoughness * s.linearRoughness, LAB_MIN_ALPHA);
     mat3 tbn = BasisFromNormal(s.N);
     vec3 Ve = V * tbn; // tangent space (transpose multiply)

@@ -23,7 +23,9 @@ struct mat4 { float m[16]; }; // Column-major, as GLSL.
 #define LAB_LIGHT_SPHERE 1
 #define LAB_LIGHT_POINT 2
 
-// Signal bits (LabConstants.gCounts.w): which outputs a pass computes.
+// Signal bits. Each pass is compiled once per signal (LAB_SIGNAL, 0 = the G-buffer pass), and the
+// diffuse / specular / gradient passes once per LAB_BOUNCES (1, 2) and LAB_DIRECT (0, 1): a CPU
+// implementation runs both sides of a branch on a uniform value, compile-time constants cost nothing.
 #define LAB_SIGNAL_SHADOW 2
 #define LAB_SIGNAL_TRANSLUCENCY 4
 #define LAB_SIGNAL_DIFFUSE 8
@@ -67,15 +69,15 @@ struct mat4 { float m[16]; }; // Column-major, as GLSL.
 #define LAB_BINDING_DIFFUSE 12       // radiance rgb, hit distance
 #define LAB_BINDING_SPECULAR 13      // radiance rgb, hit distance
 #define LAB_BINDING_HIT_MASK 14      // r32ui, ceil(w / 8) x ceil(h / 4): bit (x % 8) + 8 (y % 4) = lit
-// LabTruth accumulators (rgba32f, read-write)
-#define LAB_BINDING_ACC_SHADOW 15    // sum visibility, sum L*V (rgb) over lights
-#define LAB_BINDING_ACC_TRANSLUCENCY 16 // sum L (rgb), sum mean-over-lights visibility
-#define LAB_BINDING_ACC_DIFFUSE 17   // sum radiance rgb, sum hit distance (hits only)
-#define LAB_BINDING_ACC_SPECULAR 18  // sum radiance rgb, sum hit distance (hits only)
-#define LAB_BINDING_ACC_COUNT 19     // diffuse hits, specular hits, 0, 0
+// LabTruth accumulators (rgba32f, read-write), per signal:
+//   shadow:       A = (sum visibility, 0, 0, 0)
+//   translucency: A = (sum L rgb, sum mean-over-lights visibility), B = (sum L * V rgb, 0)
+//   diffuse, specular: A = (sum radiance rgb, sum hit distance of hits), B = (hit count, 0, 0, 0)
+#define LAB_BINDING_ACC_A 15
+#define LAB_BINDING_ACC_B 16
 // LabGradients output (rgba32f), ceil(w / 3) x ceil(h / 3)
-#define LAB_BINDING_GRADIENTS 20     // |dLum| diffuse, max lum diffuse, |dLum| specular, max lum specular
-#define LAB_BINDING_NUM 21
+#define LAB_BINDING_GRADIENTS 17     // |dLum| diffuse, max lum diffuse, |dLum| specular, max lum specular
+#define LAB_BINDING_NUM 18
 
 struct LabConstants
 {
@@ -89,8 +91,8 @@ struct LabConstants
     vec4 gSkyHorizon;
     vec4 gSkyGround;
     uvec4 gSize;           // width, height, frame index, seed
-    uvec4 gCounts;         // objects, lights, shadow light index, signal bits
-    uvec4 gOptions;        // bounces (1 or 2), has previous frame (0/1), direct lighting (0/1), 0
+    uvec4 gCounts;         // objects, lights, shadow light index, 0
+    uvec4 gOptions;        // 0, has previous frame (0/1), 0, 0
 };
 
 // Push constants of LabTruth: which samples this dispatch adds.
