@@ -440,13 +440,19 @@ VkResult Integration::PrepareSlot(FrameSlot& slot, const DispatchDesc* dispatche
 // First Denoise after (re)creation: history starts at zero, never garbage (NaN).
 void Integration::ClearPools(rhi::CommandBuffer& cmd)
 {
-    std::vector<rhi::TextureBarrier> barriers;
+    // Transient textures too: their first frame then starts from zeros, not from stale memory.
+    std::vector<TrackedTexture*> textures;
     for (TrackedTexture& texture : m_PermanentPool)
+        textures.push_back(&texture);
+    for (TrackedTexture& texture : m_TransientPool)
+        textures.push_back(&texture);
+    std::vector<rhi::TextureBarrier> barriers;
+    for (TrackedTexture* texture : textures)
     {
         // Layout transition from UNDEFINED (first use, nothing to wait for).
         rhi::TextureState cleared = {rhi::ACCESS_COPY_DESTINATION, rhi::Layout::COPY_DESTINATION};
-        barriers.push_back({texture.texture, texture.state, cleared});
-        texture.state = cleared;
+        barriers.push_back({texture->texture, texture->state, cleared});
+        texture->state = cleared;
     }
     rhi::BarrierDesc barrierDesc = {};
     barrierDesc.textures = barriers.data();
@@ -454,8 +460,8 @@ void Integration::ClearPools(rhi::CommandBuffer& cmd)
     m_Device->CmdBarrier(cmd, barrierDesc);
 
     const float zero[4] = {};
-    for (TrackedTexture& texture : m_PermanentPool)
-        m_Device->CmdClearTexture(cmd, *texture.texture, rhi::Layout::COPY_DESTINATION, zero);
+    for (TrackedTexture* texture : textures)
+        m_Device->CmdClearTexture(cmd, *texture->texture, rhi::Layout::COPY_DESTINATION, zero);
     for (TrackedBuffer& buffer : m_BufferPool)
     {
         m_Device->CmdFillBuffer(cmd, *buffer.buffer, 0, 0, 0);

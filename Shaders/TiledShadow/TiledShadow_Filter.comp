@@ -127,7 +127,7 @@ void main()
             vec2 ndc = _NRD_PixelUv(pixel) * 2.0 - 1.0;
             float planeCenter = Nv.x * (ndc.x * gFrustum.x + gFrustum.y) + Nv.y * (ndc.y * gFrustum.z + gFrustum.w) + Nv.z * gViewZSign;
             vec2 planeStep = Nv.xy * gFrustum.xz * 2.0 * gInvResourceSize * float(TILED_SHADOW_STEP);
-            float planeScale = gPlaneDistanceScale / zCenter;
+            float planeScale = gPlaneDistanceScale / max(zCenter, 1e-30); // Denormal viewZ: no Inf * 0.
 
             float weightSum = 1.0;
             vec2 sum = shadowCenter * vec2(1.0, 1.0);
