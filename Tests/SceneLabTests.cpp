@@ -526,6 +526,49 @@ TEST_CASE("gradients are zero when nothing changes and large where a light switc
         moving /= double(f.gradients.pixelCount());
     }
     CHECK(moving > 0.01);
+
+    // Camera motion alone: the same surface, light sample and random numbers give the same
+    // diffuse value (diffuse does not depend on the view), so its gradients are exactly 0.
+    p.frameIndex = 20;
+    FrameData pan = Render(LoadBuiltin("camera_translation"), p);
+    uint32_t reprojected = 0;
+    for (size_t i = 0; i < pan.gradientsRaw.pixelCount(); i++)
+    {
+        CHECK(pan.gradientsRaw.pixels[i * 4 + 0] == 0.0f);
+        reprojected += pan.gradientsRaw.pixels[i * 4 + 1] > 0.0f ? 1 : 0;
+    }
+    CHECK(reprojected > pan.gradientsRaw.pixelCount() / 2);
+}
+
+TEST_CASE("bounce count and direct light select different estimators", "[scenelab][vulkan]")
+{
+    Scene scene = LoadBuiltin("static");
+    RenderParams p;
+    p.width = 32;
+    p.height = 32;
+    p.truthSpp = 2;
+    p.signals = SIGNAL_DIFFUSE | SIGNAL_SPECULAR;
+    FrameData base = Render(scene, p);
+    p.bounces = 2;
+    FrameData twoBounces = Render(scene, p);
+    p.bounces = 1;
+    p.directLighting = false;
+    FrameData indirectOnly = Render(scene, p);
+    for (const FrameData* f : {&base, &twoBounces, &indirectOnly})
+    {
+        CHECK(AllFinite(f->diffuse));
+        CHECK(AllFinite(f->specularTruth));
+    }
+    CHECK(HashImage(base.diffuse) != HashImage(twoBounces.diffuse));
+    CHECK(HashImage(base.diffuse) != HashImage(indirectOnly.diffuse));
+    // Direct sunlight makes the lit floor much brighter than its indirect light alone.
+    double withDirect = 0.0, without = 0.0;
+    for (size_t i = 0; i < base.diffuseTruth.pixelCount(); i++)
+    {
+        withDirect += base.diffuseTruth.pixels[i * 4];
+        without += indirectOnly.diffuseTruth.pixels[i * 4];
+    }
+    CHECK(withDirect > 1.5 * without);
 }
 
 TEST_CASE("the ground truth converges: K spp against many more", "[scenelab][vulkan]")
