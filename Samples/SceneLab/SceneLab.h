@@ -5,6 +5,8 @@
 // every requested signal (the noisy input) packed with Shaders/Include/NRD.glsl, and, for the same
 // primary hits, the mean of 'truthSpp' independent samples of each signal (the ground truth).
 // Same scene + params (+ seed) => bit-identical output, on the same device and driver.
+// Conventions of every image: FrameData below; of the matrices: FrameCamera in Scene.h; of the
+// estimators: README.md next to this file.
 //
 // Typical use:
 //     nrd::lab::VulkanContext vk;  vk.Create({});
@@ -70,8 +72,8 @@ struct RenderParams
     uint32_t seed = kSceneSeed;    // Random seed of every sample.
     SignalMask signals = SIGNAL_SHADOW;
     uint32_t lightIndex = 0;       // Light of SIGNAL_SHADOW (index into Scene::lights).
-    uint32_t bounces = 1;          // Diffuse / specular: 1 (direct light at the bounce hit) or 2.
-    bool directLighting = true;    // Diffuse / specular include the primary surface's direct light.
+    uint32_t bounces = 1;          // Diffuse / specular / gradients: 1 (direct light at the bounce hit) or 2.
+    bool directLighting = true;    // Diffuse / specular / gradients include the primary surface's direct light.
     bool useCache = true;          // Read / write the disk cache (if the lab has a cache directory).
 };
 
@@ -108,7 +110,9 @@ struct FrameData
     Image viewZ;           // 1 ch: positive linear view depth (IN_VIEWZ); sky kSkyViewZ.
     Image normalRoughness; // 4 ch: NRD_FrontEnd_PackNormalAndRoughness, n * 0.5 + 0.5 and linear roughness.
     Image motion2d;        // 2 ch: uvPrev - uv (v down, non-jittered); sky: camera rotation only.
+                           //   IN_MV with motionVectorScale {1, 1, 0}, isMotionVectorInWorldSpace false.
     Image motion3d;        // 3 ch: world posPrev - pos (0 on static objects and the sky).
+                           //   IN_MV with motionVectorScale {1, 1, 1}, isMotionVectorInWorldSpace true.
     Image albedo;          // 3 ch: diffuse albedo = albedo * (1 - metalness); sky 0.
     Image specularAlbedo;  // 3 ch: specular directional albedo (the specular signals are divided by it).
     Image objectIndex;     // 1 ch: index into Scene::objects, -1 for sky.
@@ -164,10 +168,12 @@ struct SceneLabDesc
 // $XDG_CACHE_HOME/nrd-lab, else $HOME/.cache/nrd-lab, else /tmp/nrd-lab.
 std::string GetDefaultCacheDirectory();
 
+// Not thread-safe: one thread renders at a time. Every Render call waits for the device.
 class SceneLab
 {
 public:
-    // The device must outlive the lab. Creates the pipelines; check IsValid().
+    // The device must outlive the lab. Creates its buffers and the G-buffer pipeline (the other
+    // shader variants are created on first use); check IsValid().
     explicit SceneLab(nrd::rhi::Device& device, const SceneLabDesc& desc = {});
     explicit SceneLab(nrd::lab::VulkanContext& context, const SceneLabDesc& desc = {});
     ~SceneLab();
@@ -178,8 +184,9 @@ public:
     bool IsValid() const;
     const std::string& GetError() const;
 
-    // Renders (or loads from the cache) one frame of 'scene'. Returns false with a message for bad
-    // params (size, light index, bounces) or a device error; 'out' is then unspecified.
+    // Renders (or loads from the cache) one frame of 'scene': the G-buffer and the requested signals,
+    // with their truth if params.truthSpp > 0. Returns false with a message for bad params (size,
+    // light index, bounces, too many objects) or a device error; 'out' is then unspecified.
     bool Render(const Scene& scene, const RenderParams& params, FrameData& out, std::string& error);
 
     void SetCacheDirectory(const std::string& directory);
