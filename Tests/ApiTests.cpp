@@ -488,8 +488,8 @@ TEST_CASE("Allocation callbacks receive every allocation of the instance", "[api
         auto* c = static_cast<Counter*>(user);
         c->live++;
         c->total++;
-        return aligned_alloc(alignment < sizeof(void*) ? sizeof(void*) : alignment,
-                             (size + alignment - 1) / alignment * alignment);
+        size_t a = alignment < sizeof(void*) ? sizeof(void*) : alignment;
+        return aligned_alloc(a, (size + a - 1) / a * a); // The size must be a multiple of the alignment.
     };
     desc.allocationCallbacks.Reallocate = [](void*, void*, size_t, size_t) -> void* { return nullptr; };
     desc.allocationCallbacks.Free = [](void* user, void* memory) {
