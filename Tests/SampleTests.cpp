@@ -1,0 +1,112 @@
+// nrd-sample's runner on the scene lab: every built-in scene runs SIGMA, the report follows the
+// documented JSON contract, and the denoiser beats its noisy input against the ground truth.
+#include <catch2/catch.hpp>
+
+#include "MethodRunner.h"
+#include "Scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <string>
+
+namespace
+{
+
+nrdlab::RunOptions SmallRun(const std::string& scene, const std::string& method)
+{
+    nrdlab::RunOptions o;
+    o.scene = scene;
+    o.method = method;
+    o.width = 64;
+    o.height = 64;
+    o.frames = 10;
+    o.warmup = 4;
+    o.truthSpp = 32;
+    o.validation = true;
+    o.cacheDirectory = "none";
+    return o;
+}
+
+} // namespace
+
+TEST_CASE("The JSON report carries every field of the contract", "[quality]")
+{
+    nrdlab::RunReport r;
+    std::string error;
+    nrdlab::RunOptions o = SmallRun("static", "SIGMA_SHADOW");
+    o.frames = 3;
+    o.warmup = 1;
+    REQUIRE(nrdlab::RunMethod(o, r, error));
+    nlohmann::json j = nlohmann::json::parse(nrdlab::ReportToJson(r));
+    for (const char* key : {"scene", "method", "width", "height", "frames", "device", "gpu_ms_per_frame", "memory_bytes"})
+        CHECK(j.contains(key));
+    CHECK(j["scene"] == "static");
+    CHECK(j["method"] == "SIGMA_SHADOW");
+    CHECK(j["width"] == 64);
+    CHECK(j["frames"] == 3);
+    CHECK(j["memory_bytes"].get<uint64_t>() > 0);
+    REQUIRE(j["signals"].contains("shadow"));
+    const auto& s = j["signals"]["shadow"];
+    for (const char* key : {"relmse_noisy", "relmse_denoised", "psnr_noisy", "psnr_denoised", "ssim_noisy",
+                            "ssim_denoised", "flip_noisy", "flip_denoised", "temporal_instability_denoised",
+                            "temporal_instability_truth", "lag_frames"})
+    {
+        INFO(key);
+        REQUIRE(s.contains(key));
+        CHECK(std::isfinite(s[key].get<double>()));
+    }
+    REQUIRE(j["per_frame"].size() == 3);
+    CHECK(j["per_frame"][2].contains("relmse_denoised"));
+}
+
+TEST_CASE("The NONE method passes the noisy input through unchanged", "[quality]")
+{
+    nrdlab::RunReport r;
+    std::string error;
+    nrdlab::RunOptions o = SmallRun("static", "NONE");
+    o.frames = 2;
+    o.warmup = 0;
+    REQUIRE(nrdlab::RunMethod(o, r, error));
+    CHECK(r.mean.relmseDenoised == r.mean.relmseNoisy);
+    CHECK(r.mean.flipDenoised == r.mean.flipNoisy);
+    CHECK(r.noisy.pixels == r.denoised.pixels);
+}
+
+TEST_CASE("Bad runner options are reported, not crashed on", "[quality]")
+{
+    nrdlab::RunReport r;
+    std::string error;
+    nrdlab::RunOptions o = SmallRun("static", "NOT_A_METHOD");
+    CHECK_FALSE(nrdlab::RunMethod(o, r, error));
+    CHECK(error.find("unknown method") != std::string::npos);
+    o = SmallRun("no_such_scene", "SIGMA_SHADOW");
+    CHECK_FALSE(nrdlab::RunMethod(o, r, error));
+    CHECK_FALSE(error.empty());
+    o = SmallRun("static", "SIGMA_SHADOW");
+    o.signal = "diffuse";
+    CHECK_FALSE(nrdlab::RunMethod(o, r, error));
+    o = SmallRun("static", "SIGMA_SHADOW");
+    o.settingsJson = "{\"sigma\": {\"blurRadiusScale\": -3}}";
+    CHECK_FALSE(nrdlab::RunMethod(o, r, error));
+    o.settingsJson = "{\"sigmaa\": {}}";
+    CHECK_FALSE(nrdlab::RunMethod(o, r, error));
+    CHECK(error.find("sigmaa") != std::string::npos);
+}
+
+TEST_CASE("SIGMA runs on every built-in scene and lowers the error of its input", "[quality]")
+{
+    for (const std::string& scene : nrdlab::GetBuiltinSceneNames())
+    {
+        INFO("scene " << scene);
+        nrdlab::RunReport r;
+        std::string error;
+        REQUIRE(nrdlab::RunMethod(SmallRun(scene, "SIGMA_SHADOW"), r, error));
+        CHECK(r.validationMessages == 0u);
+        CHECK(std::isfinite(r.mean.relmseDenoised));
+        CHECK(r.mean.relmseDenoised < r.mean.relmseNoisy);
+        CHECK(r.mean.temporalInstabilityDenoised < r.mean.temporalInstabilityNoisy);
+        WARN(scene << ": relMSE " << r.mean.relmseNoisy << " -> " << r.mean.relmseDenoised << ", FLIP " << r.mean.flipNoisy
+                   << " -> " << r.mean.flipDenoised);
+    }
+}
