@@ -117,7 +117,8 @@ void ReadField(const nlohmann::json& j, const char* key, T& value)
 }
 
 bool ParseSettings(const std::string& text, nrd::CommonSettings& common, nrd::SigmaSettings& sigma,
-                   nrd::ReferenceSettings& reference, nrd::TiledShadowSettings& tiled, bool& motion3d, std::string& error)
+                   nrd::ReferenceSettings& reference, nrd::TiledShadowSettings& tiled, bool& motion3d, bool& motionNone,
+                   std::string& error)
 {
     if (text.empty())
         return true;
@@ -143,8 +144,7 @@ bool ParseSettings(const std::string& text, nrd::CommonSettings& common, nrd::Si
                 return false;
             }
             motion3d = motion == "3d";
-            if (motion == "none")
-                common.motionVectorScale[0] = common.motionVectorScale[1] = common.motionVectorScale[2] = 0.0f;
+            motionNone = motion == "none";
         }
         if (j.contains("sigma"))
         {
@@ -224,8 +224,8 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     nrd::SigmaSettings sigma;
     nrd::ReferenceSettings reference;
     nrd::TiledShadowSettings tiled;
-    bool motion3d = true;
-    if (!ParseSettings(o.settingsJson, common, sigma, reference, tiled, motion3d, error))
+    bool motion3d = true, motionNone = false;
+    if (!ParseSettings(o.settingsJson, common, sigma, reference, tiled, motion3d, motionNone, error))
         return false;
 
     nrd::lab::VulkanContextDesc vkDesc;
@@ -327,9 +327,11 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             memcpy(common.worldToViewMatrixPrev, frame.camera.worldToViewPrev, sizeof(common.worldToViewMatrixPrev));
             memcpy(common.viewToClipMatrixPrev, frame.camera.viewToClipPrev, sizeof(common.viewToClipMatrixPrev));
             common.frameIndex = f;
+            // motion3d is posPrev - pos (scale 1 on all axes), motion2d is uvPrev - uv (no z).
             common.isMotionVectorInWorldSpace = motion3d;
-            if (!motion3d && common.motionVectorScale[0] != 0.0f)
-                common.motionVectorScale[2] = 0.0f;
+            bool ignoreMotion = motionNone;
+            for (int a = 0; a < 3; a++)
+                common.motionVectorScale[a] = ignoreMotion || (!motion3d && a == 2) ? 0.0f : 1.0f;
             if (io.method != nrd::Method::REFERENCE && io.method != nrd::Method::TILED_SHADOW)
             {
                 memcpy(sigma.lightDirection, frame.light.direction, sizeof(sigma.lightDirection));
