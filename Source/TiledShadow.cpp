@@ -5,8 +5,8 @@
 // Filtering") with steps 1, 2 and 4. Tiles without spatial variance are skipped.
 //
 // Resources: permanent state RG32_UINT (viewZ + packed history, 8 bytes per pixel) and a 32-byte
-// counter buffer; transient RGBA16F (temporal result), RG16F (a-trous ping-pong) and two R32_UINT
-// textures at 1/8 x 1/4 resolution (bitmasks, tile classes).
+// counter buffer; transient two RG16F (shadow and variance, ping-pong), R32_UINT (packed temporal
+// moments) and two R32_UINT textures at 1/8 x 1/4 resolution (bitmasks, tile classes).
 #include "InstanceImpl.h"
 
 #include <cmath>
@@ -49,8 +49,9 @@ public:
     {
         ResourceRef mask = builder.AddTransientTexture(Format::R32_UINT, 8, 4);
         ResourceRef tileClass = builder.AddTransientTexture(Format::R32_UINT, 8, 4);
-        ResourceRef temporal = builder.AddTransientTexture(Format::RGBA16_SFLOAT);
-        ResourceRef pingPong = builder.AddTransientTexture(Format::RG16_SFLOAT);
+        ResourceRef shadowA = builder.AddTransientTexture(Format::RG16_SFLOAT);
+        ResourceRef shadowB = builder.AddTransientTexture(Format::RG16_SFLOAT);
+        ResourceRef moments = builder.AddTransientTexture(Format::R32_UINT);
         ResourceRef state = builder.AddPermanentTexture(Format::RG32_UINT);
         BufferDesc countersDesc;
         countersDesc.size = kCountersBytes;
@@ -64,17 +65,17 @@ public:
             "TILED_SHADOW - Prepare", {App(ResourceType::IN_SHADOW_VISIBILITY), mask});
         // The same pass over the prepared masks or the application's (isBitmaskInput).
         m_Classify[0] = builder.AddDispatch<passes::TiledShadow_Classify>(
-            "TILED_SHADOW - Classify", {mask, viewZ, normal, mv, state, temporal, tileClass, out, counters});
+            "TILED_SHADOW - Classify", {mask, viewZ, normal, mv, state, shadowA, moments, tileClass, out, counters});
         m_Classify[1] = builder.AddDispatch<passes::TiledShadow_Classify>(
-            "TILED_SHADOW - Classify", {App(ResourceType::IN_SHADOW_BITMASK), viewZ, normal, mv, state, temporal,
+            "TILED_SHADOW - Classify", {App(ResourceType::IN_SHADOW_BITMASK), viewZ, normal, mv, state, shadowA, moments,
                                         tileClass, out, counters});
-        // Ping-pong between the temporal result and the RG16F texture; the last pass run writes OUT.
+        // Ping-pong between two RG16F textures; the last pass run writes OUT.
         m_Filter[0] = builder.AddDispatch<passes::TiledShadow_Filter1>(
-            "TILED_SHADOW - A-trous step 1", {temporal, viewZ, normal, tileClass, pingPong, out, state});
+            "TILED_SHADOW - A-trous step 1", {shadowA, moments, viewZ, normal, tileClass, shadowB, out, state});
         m_Filter[1] = builder.AddDispatch<passes::TiledShadow_Filter2>(
-            "TILED_SHADOW - A-trous step 2", {pingPong, viewZ, normal, tileClass, temporal, out, state});
+            "TILED_SHADOW - A-trous step 2", {shadowB, moments, viewZ, normal, tileClass, shadowA, out, state});
         m_Filter[2] = builder.AddDispatch<passes::TiledShadow_Filter4>(
-            "TILED_SHADOW - A-trous step 4", {temporal, viewZ, normal, tileClass, pingPong, out, state});
+            "TILED_SHADOW - A-trous step 4", {shadowA, moments, viewZ, normal, tileClass, shadowB, out, state});
     }
 
     Result SetSettings(SettingsKind kind, const void* settings, const Logger& log) override
@@ -146,6 +147,7 @@ public:
             weightSquaredSum += weights[std::abs(i)] * weights[std::abs(i)];
         }
         c.gLocalMeanNoise = weightSquaredSum / (weightSum * weightSum); // sqrt(sum w^2) / sum w of the 2D kernel.
+        c.gMomentWeights2.y = weightSum * weightSum;                       // Weight of a window inside the image.
         c.gHistoryClampSigma = s.historyClampSigma;
         c.gDisocclusionThresholdGrazing =
             s.disocclusionThresholdGrazing > frame.common.disocclusionThreshold ? s.disocclusionThresholdGrazing

@@ -577,12 +577,20 @@ TEST_CASE("Golden dispatch sequence and pools of TILED_SHADOW", "[api]")
     const nrd::DenoiserDesc& desc = nrd::GetDenoiserDesc(d);
     REQUIRE(desc.permanentPoolSize == 1);
     CHECK(desc.permanentPool[0].format == nrd::Format::RG32_UINT);
-    REQUIRE(desc.transientPoolSize == 4);
-    uint32_t tileTextures = 0;
+    // Bitmasks and tile classes at 1/8 x 1/4, shadow + variance ping-pong, packed moments.
+    REQUIRE(desc.transientPoolSize == 5);
+    uint32_t tileTextures = 0, shadowTextures = 0, momentTextures = 0;
     for (uint32_t i = 0; i < desc.transientPoolSize; i++)
-        tileTextures += desc.transientPool[i].format == nrd::Format::R32_UINT && desc.transientPool[i].downsampleX == 8 &&
-                        desc.transientPool[i].downsampleY == 4;
+    {
+        const nrd::TextureDesc& t = desc.transientPool[i];
+        bool isFull = t.downsampleX == 1 && t.downsampleY == 1;
+        tileTextures += t.format == nrd::Format::R32_UINT && t.downsampleX == 8 && t.downsampleY == 4;
+        shadowTextures += t.format == nrd::Format::RG16_SFLOAT && isFull;
+        momentTextures += t.format == nrd::Format::R32_UINT && isFull;
+    }
     CHECK(tileTextures == 2);
+    CHECK(shadowTextures == 2);
+    CHECK(momentTextures == 1);
     REQUIRE(desc.buffersNum == 1);
     CHECK(desc.buffers[0].isPermanent);
     CHECK(desc.buffers[0].size == 2 * nrd::TILED_SHADOW_COUNTERS_SLOT_SIZE * sizeof(uint32_t));

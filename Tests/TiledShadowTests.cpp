@@ -27,9 +27,9 @@ constexpr float kPlaneViewZ = 10.0f;
 constexpr float kSentinel = 2.0f; // Written into the output first; the denoiser writes [0, 1].
 
 // Quality floors: relMSE(noisy) / relMSE(output), about half of what lavapipe measures (printed).
-constexpr double kStaticFactor = 20.0;
-constexpr double kMovingCameraFactor = 8.0;
-constexpr double kSlidingEdgeFactor = 5.0;
+constexpr double kStaticFactor = 15.0;
+constexpr double kMovingCameraFactor = 30.0;
+constexpr double kSlidingEdgeFactor = 7.0;
 
 enum TileClass : uint32_t
 {

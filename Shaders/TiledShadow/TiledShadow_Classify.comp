@@ -8,7 +8,9 @@
 //   2. disocclusion: the expected previous viewZ from the clip -> previous clip matrix, compared
 //      with the stored one under a tolerance that grows at grazing angles;
 //   3. reprojection: temporal moments, variance boost on short history, history clamped to the
-//      neighbourhood, blend toward the current sample by history length.
+//      neighbourhood where the neighbourhood changed (a still one keeps its history: next to a sharp
+//      edge mean +- 0.5 sigma would exclude the truth), blend toward the current sample by history
+//      length.
 // Tiles whose 3x5-tile neighbourhood is uniformly lit or shadowed skip 2 and 3 (and the filter).
 // Group: 16x16 pixels = 2x4 tiles; shared memory only, so any subgroup size works.
 
@@ -26,15 +28,21 @@
 #define HALO_TILES_Y 2
 #define REGION_TILES_X (GROUP_TILES_X + 2 * HALO_TILES_X)
 #define REGION_TILES_Y (GROUP_TILES_Y + 2 * HALO_TILES_Y)
+#define REGION_TILES (REGION_TILES_X * REGION_TILES_Y)
 // Rows of horizontal sums: the group's rows plus RADIUS_MAX above and below.
 #define SUM_ROWS (GROUP_SIZE + 2 * RADIUS_MAX)
-#ifndef TS_HISTORY_REJECTION
+// How fast history outside the clamp box loses samples, per squared standard error of the local mean.
 #define TS_HISTORY_REJECTION 2.0
-#endif
+// The clamp starts when the local mean moved this many standard errors from its running mean
+// (fully on 2 standard errors later); the running mean follows with this blend factor.
+#define TS_CHANGE_THRESHOLD 2.0
+#define TS_LOCAL_MEAN_ALPHA 0.1
+// Window radius of the "near" statistics (variance boost, clamp box extension).
+#define TS_BOOST_RADIUS 1
 
-shared uint sMask[REGION_TILES_Y][REGION_TILES_X];
-shared float sRowSum[SUM_ROWS][GROUP_SIZE];
-shared uint sTileClass[GROUP_TILES_X * GROUP_TILES_Y];
+shared uint sMask[REGION_TILES];  // Bits of the region's tiles, pixels outside the image cleared.
+shared uint sMixed[REGION_TILES]; // Bit 0: the tile has a lit pixel in the image; bit 1: a shadowed one.
+shared float sRowSum[SUM_ROWS * GROUP_SIZE];
 shared uint sTileHasSurface[GROUP_TILES_X * GROUP_TILES_Y];
 
 float MomentWeight(int i)
@@ -58,15 +66,18 @@ uint RowValidBits(int tileX, int y)
     return (1u << uint(n)) - 1u;
 }
 
-uint TileValidBits(ivec2 tile)
-{
-    uint bits = 0u;
-    for (int y = 0; y < TS_TILE_H; y++)
-        bits |= RowValidBits(tile.x, tile.y * TS_TILE_H + y) << uint(TS_TILE_W * y);
-    return bits;
-}
-
 uint RowByte(uint mask, int row) { return (mask >> uint(TS_TILE_W * row)) & 0xFFu; }
+
+// The 17 bits around column 'localX' (bit 8 = the column) of sum row 'row' (image row
+// groupOrigin.y - RADIUS_MAX + row), from the region masks.
+uint RowWindow(int row, int localX)
+{
+    int base = (row / TS_TILE_H) * REGION_TILES_X + localX / TS_TILE_W + HALO_TILES_X;
+    int rowInTile = row % TS_TILE_H;
+    uint window = RowByte(sMask[base - 1], rowInTile) | (RowByte(sMask[base], rowInTile) << 8) |
+                  (RowByte(sMask[base + 1], rowInTile) << 16);
+    return window >> uint(localX % TS_TILE_W);
+}
 
 // Sum over i in [-8, 8] of w(|i|) * bit(center + i) for the 17 bits of 'window' (center at bit 8):
 // nested windows of half-width k weighted by w(k) - w(k + 1), one popcount each.
@@ -81,19 +92,6 @@ float WeightedRowSum(uint window)
     return sum;
 }
 
-// 17 bits around column 'x' (center at bit 8) of image row 'y', from region tile row 'regionY';
-// 'valid' receives which of them lie inside the image.
-uint RowWindow(int regionY, int rowInTile, int localX, int tileX, int y, out uint valid)
-{
-    int regionX = localX / TS_TILE_W + HALO_TILES_X;
-    uint window = RowByte(sMask[regionY][regionX - 1], rowInTile) | (RowByte(sMask[regionY][regionX], rowInTile) << 8) |
-                  (RowByte(sMask[regionY][regionX + 1], rowInTile) << 16);
-    valid = RowValidBits(tileX - 1, y) | (RowValidBits(tileX, y) << 8) | (RowValidBits(tileX + 1, y) << 16);
-    uint shift = uint(localX % TS_TILE_W);
-    valid >>= shift;
-    return (window >> shift) & valid;
-}
-
 void main()
 {
     uint threadIndex = gl_LocalInvocationIndex;
@@ -103,17 +101,24 @@ void main()
     ivec2 tileCount = ivec2(_TS_TileCount(gResourceSize));
     ivec2 pixel = groupOrigin + local;
     bool isInside = all(lessThan(pixel, ivec2(gResourceSize)));
+    // Every pixel the group's neighbourhoods reach is inside the image: no border bookkeeping.
+    bool isInterior = all(greaterThanEqual(groupOrigin, ivec2(RADIUS_MAX))) &&
+                      all(lessThanEqual(groupOrigin + GROUP_SIZE + RADIUS_MAX, ivec2(gResourceSize)));
 
-    // Masks of the group's tiles and their neighbours; tiles outside the image read as 0 (their
-    // bits are never valid).
-    if (threadIndex < REGION_TILES_X * REGION_TILES_Y)
+    // Masks of the group's tiles and their neighbours, pixels outside the image cleared.
+    if (threadIndex < REGION_TILES)
     {
-        ivec2 region = ivec2(threadIndex % REGION_TILES_X, threadIndex / REGION_TILES_X);
-        ivec2 tile = groupTile + region - ivec2(HALO_TILES_X, HALO_TILES_Y);
-        uint mask = 0u;
+        ivec2 tile = groupTile + ivec2(threadIndex % REGION_TILES_X, threadIndex / REGION_TILES_X) -
+                     ivec2(HALO_TILES_X, HALO_TILES_Y);
+        uint valid = 0u, bits = 0u;
         if (all(greaterThanEqual(tile, ivec2(0))) && all(lessThan(tile, tileCount)))
-            mask = texelFetch(usampler2D(gIn_Mask, gNearestClamp), tile, 0).x;
-        sMask[region.y][region.x] = mask;
+        {
+            for (int y = 0; y < TS_TILE_H; y++)
+                valid |= RowValidBits(tile.x, tile.y * TS_TILE_H + y) << uint(TS_TILE_W * y);
+            bits = texelFetch(usampler2D(gIn_Mask, gNearestClamp), tile, 0).x & valid;
+        }
+        sMask[threadIndex] = bits;
+        sMixed[threadIndex] = (bits != 0u ? 1u : 0u) | (bits != valid ? 2u : 0u);
     }
     if (threadIndex < GROUP_TILES_X * GROUP_TILES_Y)
         sTileHasSurface[threadIndex] = 0u;
@@ -126,57 +131,45 @@ void main()
     if (!isSky)
         atomicOr(sTileHasSurface[localTile], 1u);
 
-    // Tile classes: uniform when every in-image bit of the 3x5 tiles around the tile is equal.
-    if (threadIndex < GROUP_TILES_X * GROUP_TILES_Y)
+    // The tile is uniform when its 3x5-tile neighbourhood has only lit or only shadowed pixels.
+    ivec2 regionTile = ivec2(local.x / TS_TILE_W + HALO_TILES_X, local.y / TS_TILE_H + HALO_TILES_Y);
+    uint mixed = 0u;
+    for (int dy = -HALO_TILES_Y; dy <= HALO_TILES_Y; dy++)
+        for (int dx = -HALO_TILES_X; dx <= HALO_TILES_X; dx++)
+            mixed |= sMixed[(regionTile.y + dy) * REGION_TILES_X + regionTile.x + dx];
+    bool isSkipping = (gFlags & TS_FLAG_TILE_SKIPPING) != 0u;
+    uint tileClass = TS_TILE_FILTERED;
+    if (isSkipping && mixed != 3u)
+        tileClass = (mixed & 1u) != 0u ? TS_TILE_LIT : TS_TILE_SHADOWED;
+
+    // 1. Local neighbourhood, horizontal part: weighted sums of the rows the group's columns need
+    // (skipped when the whole region is uniform, so that no tile of the group is filtered).
+    uint regionMixed = 0u;
+    for (int i = 0; i < REGION_TILES; i++)
+        regionMixed |= sMixed[i];
+    bool needsMoments = gDebugView == TS_DEBUG_LOCAL_MEAN || !isSkipping || regionMixed == 3u;
+    if (needsMoments)
     {
-        ivec2 t = ivec2(threadIndex % GROUP_TILES_X, threadIndex / GROUP_TILES_X);
-        bool anyLit = false, anyShadowed = false;
-        for (int dy = -HALO_TILES_Y; dy <= HALO_TILES_Y; dy++)
+        for (uint entry = threadIndex; entry < SUM_ROWS * GROUP_SIZE; entry += GROUP_SIZE * GROUP_SIZE)
         {
-            for (int dx = -HALO_TILES_X; dx <= HALO_TILES_X; dx++)
-            {
-                uint valid = TileValidBits(groupTile + t + ivec2(dx, dy));
-                uint bits = sMask[t.y + dy + HALO_TILES_Y][t.x + dx + HALO_TILES_X] & valid;
-                anyLit = anyLit || bits != 0u;
-                anyShadowed = anyShadowed || bits != valid;
-            }
+            sRowSum[entry] = WeightedRowSum(RowWindow(int(entry) / GROUP_SIZE, int(entry) % GROUP_SIZE));
         }
-        uint tileClass = TS_TILE_FILTERED;
-        if ((gFlags & TS_FLAG_TILE_SKIPPING) != 0u && !(anyLit && anyShadowed))
-            tileClass = anyLit ? TS_TILE_LIT : TS_TILE_SHADOWED;
-        sTileClass[threadIndex] = tileClass;
     }
     barrier();
 
-    // Final classes (all-sky tiles are known now) and whether this group needs the moments.
-    bool needsMoments = gDebugView == TS_DEBUG_LOCAL_MEAN;
-    uint tileClass = TS_TILE_FILTERED;
-    for (uint i = 0u; i < GROUP_TILES_X * GROUP_TILES_Y; i++)
-    {
-        uint c = sTileClass[i];
-        if (c == TS_TILE_FILTERED && sTileHasSurface[i] == 0u)
-            c = TS_TILE_SKY;
-        needsMoments = needsMoments || c == TS_TILE_FILTERED;
-        if (i == localTile)
-            tileClass = c;
-    }
+    if (tileClass == TS_TILE_FILTERED && sTileHasSurface[localTile] == 0u)
+        tileClass = TS_TILE_SKY;
 
-    // Tile classes and counters (TILED_SHADOW_COUNTERS_* in NRDSettings.h).
-    if (threadIndex < GROUP_TILES_X * GROUP_TILES_Y)
+    // Tile classes and counters (TILED_SHADOW_COUNTERS_* in NRDSettings.h), by each tile's first pixel.
+    if (local.x % TS_TILE_W == 0 && local.y % TS_TILE_H == 0 && isInside)
     {
-        ivec2 tile = groupTile + ivec2(threadIndex % GROUP_TILES_X, threadIndex / GROUP_TILES_X);
-        uint c = sTileClass[threadIndex];
-        if (c == TS_TILE_FILTERED && sTileHasSurface[threadIndex] == 0u)
-            c = TS_TILE_SKY;
-        if (all(lessThan(tile, tileCount)))
-        {
-            imageStore(gOut_TileClass, tile, uvec4(c, 0u, 0u, 0u));
-            uint slot = gCounterSlot * 4u;
-            if (c == TS_TILE_LIT || c == TS_TILE_SHADOWED)
-                atomicAdd(gCounters[slot + 0u], 1u);
-            else if (c == TS_TILE_SKY)
-                atomicAdd(gCounters[slot + 1u], 1u);
-        }
+        ivec2 tile = pixel / ivec2(TS_TILE_W, TS_TILE_H);
+        imageStore(gOut_TileClass, tile, uvec4(tileClass, 0u, 0u, 0u));
+        uint slot = gCounterSlot * 4u;
+        if (tileClass == TS_TILE_LIT || tileClass == TS_TILE_SHADOWED)
+            atomicAdd(gCounters[slot + 0u], 1u);
+        else if (tileClass == TS_TILE_SKY)
+            atomicAdd(gCounters[slot + 1u], 1u);
     }
     if (threadIndex == 0u && gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u)
     {
@@ -187,51 +180,40 @@ void main()
             gCounters[other + i] = 0u;
     }
 
-    // 1. Local neighbourhood: horizontal sums of the rows the group's columns need, then a
-    // vertical sum per pixel.
-    float localMean = 0.0;
-    if (needsMoments)
-    {
-        for (uint entry = threadIndex; entry < SUM_ROWS * GROUP_SIZE; entry += GROUP_SIZE * GROUP_SIZE)
-        {
-            int row = int(entry) / GROUP_SIZE, localX = int(entry) % GROUP_SIZE;
-            int y = groupOrigin.y - RADIUS_MAX + row;
-            uint valid;
-            uint window = RowWindow(row / TS_TILE_H, row % TS_TILE_H, localX, groupTile.x + localX / TS_TILE_W, y, valid);
-            sRowSum[row][localX] = WeightedRowSum(window);
-        }
-        barrier();
-
-        // Weight of the in-image pixels: the same column weight for every in-image row.
-        uint columnValid;
-        int ownRow = local.y + RADIUS_MAX;
-        RowWindow(ownRow / TS_TILE_H, ownRow % TS_TILE_H, local.x, groupTile.x + local.x / TS_TILE_W, pixel.y, columnValid);
-        float columnWeight = WeightedRowSum(columnValid);
-        float sum = 0.0, rowWeight = 0.0;
-        for (int i = -RADIUS_MAX; i <= RADIUS_MAX; i++)
-        {
-            float w = MomentWeight(abs(i));
-            int y = pixel.y + i;
-            sum += w * sRowSum[ownRow + i][local.x];
-            rowWeight += (y >= 0 && y < int(gResourceSize.y)) ? w : 0.0;
-        }
-        float weight = columnWeight * rowWeight;
-        localMean = weight > 0.0 ? sum / weight : 0.0;
-    }
-
     if (!isInside)
         return;
 
-    ivec2 tile = pixel / ivec2(TS_TILE_W, TS_TILE_H);
-    uint mask = sMask[tile.y - groupTile.y + HALO_TILES_Y][tile.x - groupTile.x + HALO_TILES_X];
+    // 1. Local neighbourhood, vertical part, normalized by the weight of the pixels in the image.
+    float localMean = 0.0;
+    if (needsMoments && (tileClass == TS_TILE_FILTERED || gDebugView == TS_DEBUG_LOCAL_MEAN))
+    {
+        float sum = 0.0;
+        for (int i = -RADIUS_MAX; i <= RADIUS_MAX; i++)
+            sum += MomentWeight(abs(i)) * sRowSum[(local.y + RADIUS_MAX + i) * GROUP_SIZE + local.x];
+        float weight = gMomentWeights2.y;
+        if (!isInterior)
+        {
+            int tileX = pixel.x / TS_TILE_W;
+            uint validWindow = RowValidBits(tileX - 1, pixel.y) | (RowValidBits(tileX, pixel.y) << 8) |
+                               (RowValidBits(tileX + 1, pixel.y) << 16);
+            float rowWeight = 0.0;
+            for (int i = -RADIUS_MAX; i <= RADIUS_MAX; i++)
+                rowWeight += uint(pixel.y + i) < gResourceSize.y ? MomentWeight(abs(i)) : 0.0;
+            weight = WeightedRowSum(validWindow >> uint(pixel.x % TS_TILE_W)) * rowWeight;
+        }
+        localMean = sum / weight;
+    }
+
+    uint mask = sMask[regionTile.y * REGION_TILES_X + regionTile.x];
     float sample0 = ((mask >> uint((pixel.x % TS_TILE_W) + TS_TILE_W * (pixel.y % TS_TILE_H))) & 1u) != 0u ? 1.0 : 0.0;
 
-    // Written for skipped tiles and sky: the uniform value with a full history, so that a tile
-    // turning non-uniform starts from a stable, clamped history.
+    // Skipped tiles and sky: the uniform value with a full history, so that a tile turning
+    // non-uniform starts from a stable, clamped history.
     float result = tileClass == TS_TILE_LIT ? 1.0 : 0.0;
     float variance = 0.0;
     float temporalMean = result;
     float samples = tileClass == TS_TILE_SKY || isSky ? 0.0 : gMaxHistoryFrameNum;
+    float previousLocalMean = result; // Running mean of the local mean (the next frame's reference).
 
     if (tileClass == TS_TILE_FILTERED && !isSky)
     {
@@ -256,56 +238,79 @@ void main()
         float grazing = pow(clamp(1.0 - dot(V, N), 0.0, 1.0), 8.0);
         float tolerance = mix(gDisocclusionThreshold, gDisocclusionThresholdGrazing, grazing) * viewZPrevExpected;
 
-        // Bilinear footprint, taps behind a depth discontinuity dropped.
-        vec3 history = vec3(0.0);
+        // Bilinear footprint from two gathers (viewZ + previous local mean, packed history), taps
+        // behind a depth discontinuity or outside the image dropped.
+        vec4 history = vec4(0.0); // History, temporal mean, samples, previous local mean.
         float footprint = 0.0;
-        if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS)
+        bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
+        if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
         {
             vec2 position = uvPrev * vec2(gResourceSize) - 0.5;
             ivec2 origin = ivec2(floor(position));
             vec2 f = position - vec2(origin);
+            vec2 gatherUv = (vec2(origin) + 1.0) * gInvResourceSize;
+            uvec4 viewZs = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 0);
+            uvec4 histories = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 1);
+            // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from 'origin'.
+            const ivec2 offsets[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
+            vec4 weights = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
             for (int i = 0; i < 4; i++)
             {
-                ivec2 p = origin + ivec2(i & 1, i >> 1);
-                if (any(greaterThanEqual(uvec2(p), gResourceSize)))
-                    continue;
-                uvec2 state = texelFetch(usampler2D(gPrev_State, gNearestClamp), p, 0).xy;
-                float viewZPrev = uintBitsToFloat(state.x);
-                if (_NRD_IsSky(viewZPrev) || abs(viewZPrev - viewZPrevExpected) >= tolerance)
-                    continue;
-                float w = ((i & 1) != 0 ? f.x : 1.0 - f.x) * ((i >> 1) != 0 ? f.y : 1.0 - f.y);
-                history += w * _TS_UnpackHistory(state.y);
+                float viewZPrev = _TS_UnpackViewZ(viewZs[i]);
+                bool isValid = all(lessThan(uvec2(origin + offsets[i]), gResourceSize)) && !_NRD_IsSky(viewZPrev) &&
+                               abs(viewZPrev - viewZPrevExpected) < tolerance;
+                float w = isValid ? weights[i] : 0.0;
+                history += w * vec4(_TS_UnpackHistory(histories[i]), _TS_UnpackLocalMean(viewZs[i]));
                 footprint += w;
             }
         }
         bool isDisoccluded = footprint < 0.01;
-        history = isDisoccluded ? vec3(sample0, 0.0, 0.0) : history / footprint;
+        history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
 
         // 3. Reprojection: running moments of the raw samples, variance of a 0/1 sample from the mean.
         samples = min(history.z + 1.0, gMaxHistoryFrameNum);
         temporalMean = history.y + (sample0 - history.y) / samples;
-        variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) * samples / (samples - 1.0) : 1.0;
+        variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) * samples / (samples - 1.0) : 0.0;
 
-        // History clamped to the neighbourhood (moving shadows have no motion vectors).
+        // History clamped to the neighbourhood (moving shadows have no motion vectors), where the
+        // neighbourhood changed: its mean against its running mean at the same surface point, in
+        // standard errors. A still neighbourhood keeps its history unclamped: next to a sharp
+        // shadow edge mean +- 0.5 sigma excludes the pixel's own value (0 or 1).
         float localVariance = max(localMean - localMean * localMean, 0.0);
-        float halfWidth = gHistoryClampSigma * sqrt(localVariance);
-        float clamped = clamp(history.x, localMean - halfWidth, localMean + halfWidth);
+        float localMeanError = gLocalMeanNoise * sqrt(max(localVariance, history.w - history.w * history.w)) + 2.0 / 255.0;
+        float change = abs(localMean - history.w) / localMeanError;
+        float clampAmount = clamp((change - TS_CHANGE_THRESHOLD) * 0.5, 0.0, 1.0);
+        float halfWidth = mix(1.0, gHistoryClampSigma * sqrt(localVariance), clampAmount);
+        // The box also reaches the mean of the 3x3 bits around the pixel: inside a shadow (or light)
+        // that is uniform around the pixel, the wide neighbourhood's mean is biased.
+        int count = 0;
+        for (int dy = -TS_BOOST_RADIUS; dy <= TS_BOOST_RADIUS; dy++)
+            count += bitCount((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - TS_BOOST_RADIUS)) &
+                              ((1u << uint(2 * TS_BOOST_RADIUS + 1)) - 1u));
+        ivec2 lo = max(pixel - TS_BOOST_RADIUS, ivec2(0)), hi = min(pixel + TS_BOOST_RADIUS, ivec2(gResourceSize) - 1);
+        float nearMean = float(count) / float((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
+        float boxMin = min(localMean - halfWidth, nearMean), boxMax = max(localMean + halfWidth, nearMean);
+        float clamped = clamp(history.x, boxMin, boxMax);
+        previousLocalMean = mix(history.w, localMean, TS_LOCAL_MEAN_ALPHA);
 
         // History outside the clamp box (a moving shadow) counts as fewer samples: the distance in
         // standard errors of the local mean, so that noise alone rarely shortens the history.
-        float outside = max(abs(history.x - localMean) - halfWidth, 0.0) / max(gLocalMeanNoise * sqrt(localVariance), 0.002);
+        float outside = abs(history.x - clamped) / max(gLocalMeanNoise * sqrt(localVariance), 0.002);
         samples *= exp(-TS_HISTORY_REJECTION * outside * outside);
 
-        // Variance boost while few samples are known: a stronger spatial filter.
+        // Variance boost while few samples are known: a stronger spatial filter. The spatial variance
+        // is the bits' in the 3x3 window: the 17x17 one is large next to a sharp edge, which would
+        // blur the edge; noise shows in either.
         if (samples < 16.0)
-            variance = max(variance, localVariance) * max(16.0 - samples, 1.0);
+            variance = max(variance, nearMean * (1.0 - nearMean)) * max(16.0 - samples, 1.0);
 
         // Blend toward the current sample by history length.
         float alpha = mix(0.05, 1.0, sqrt(max(8.0 - samples, 0.0) / 8.0));
         result = mix(clamped, sample0, alpha);
     }
 
-    imageStore(gOut_Temporal, pixel, vec4(result, variance, temporalMean, samples));
+    imageStore(gOut_Shadow, pixel, vec4(result, variance, 0.0, 0.0));
+    imageStore(gOut_Moments, pixel, uvec4(_TS_PackMoments(temporalMean, samples, previousLocalMean), 0u, 0u, 0u));
 
     if (gDebugView != TS_DEBUG_NONE)
     {

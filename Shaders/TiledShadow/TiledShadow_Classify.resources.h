@@ -7,7 +7,7 @@ NRD_CONSTANTS_BEGIN
     NRD_CONSTANT(mat4, gClipToClipPrev)          // Current clip -> previous clip (double-precision product).
     NRD_CONSTANT(vec4, gMomentWeights0)          // Neighbourhood kernel w(i) = exp(-3 i^2 / (r + 1)^2), i = 0..3,
     NRD_CONSTANT(vec4, gMomentWeights1)          // i = 4..7,
-    NRD_CONSTANT(vec4, gMomentWeights2)          // i = 8 (.x); 0 beyond the radius.
+    NRD_CONSTANT(vec4, gMomentWeights2)          // i = 8 (.x); 0 beyond the radius. .y: (sum of w(i), i = -8..8)^2.
     NRD_CONSTANT(vec4, gMomentSteps0)            // w(i) - w(i + 1), the weight of the popcount of the
     NRD_CONSTANT(vec4, gMomentSteps1)            // nested row window of half-width i.
     NRD_CONSTANT(vec4, gMomentSteps2)
@@ -25,8 +25,9 @@ NRD_INPUT(1, gIn_ViewZ)
 NRD_INPUT(2, gIn_Normal)
 NRD_INPUT(3, gIn_Mv)
 NRD_INPUT_UINT(4, gPrev_State)                   // Permanent state of the previous frame (TiledShadow_Common.glsl).
-NRD_INOUT(5, gOut_Temporal, rgba16f)             // .x blended shadow, .y variance, .z temporal mean, .w samples.
-NRD_INOUT_UINT(6, gOut_TileClass, r32ui)         // One TS_TILE_* per tile.
-NRD_OUTPUT(7, gOut_Debug)                        // OUT_SHADOW_TRANSLUCENCY, written for debug views only.
-NRD_RW_BUFFER(8, gCounters, uint)                // TILED_SHADOW_COUNTERS_*, two slots.
+NRD_OUTPUT(5, gOut_Shadow)                       // .x blended shadow, .y variance (RG16F).
+NRD_INOUT_UINT(6, gOut_Moments, r32ui)           // Temporal mean and samples, packed as in the state (history 0).
+NRD_INOUT_UINT(7, gOut_TileClass, r32ui)         // One TS_TILE_* per tile.
+NRD_OUTPUT(8, gOut_Debug)                        // OUT_SHADOW_TRANSLUCENCY, written for debug views only.
+NRD_RW_BUFFER(9, gCounters, uint)                // TILED_SHADOW_COUNTERS_*, two slots.
 NRD_PASS_END

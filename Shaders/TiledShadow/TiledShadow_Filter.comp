@@ -3,7 +3,8 @@
 
 // TILED_SHADOW edge-avoiding a-trous pass (document 000, "Denoiser shadows filter"): 3x3 taps
 // TILED_SHADOW_STEP pixels apart with kernel weights 1 (centre) and 2/3 per axis, multiplied by
-//   exp(-|shadow - shadow'| / sigma)          sigma from the 3x3-filtered variance,
+//   exp(-|shadow - shadow'| / sigma)          sigma from the 3x3-filtered variance (at most twice
+//                                             the pixel's own sigma), smaller toward dark values,
 //   exp(-|plane distance| / (s * viewZ))      distance of the tap to the centre's tangent plane,
 //   max(0, N.N')^normalPower.
 // The variance is filtered with the squared weights, so it shrinks pass after pass. Skipped tiles
@@ -20,22 +21,81 @@
 #define GROUP_TILES_Y 4
 #define BORDER TILED_SHADOW_STEP
 #define REGION (GROUP_SIZE + 2 * BORDER)
+// The shadow term's sigma shrinks toward dark values: sigma * (min(s, s') + b) / (1 + b). Next to a
+// value near 0 a small difference is a large relative error (a lit penumbra bleeding into umbra).
+#define TS_DARK_BIAS 1.0
 #define LOG2_E 1.44269504
 #define LOG2_TWO_THIRDS -0.5849625
 
+// Sky and pixels outside the image hold zeros: viewZ 0 marks them, their zero normal gives them
+// zero weight.
 shared uint sShadow[REGION * REGION]; // packHalf2x16(shadow, variance).
-shared float sViewZ[REGION * REGION]; // 0 for sky and outside the image.
-shared float sNormalX[REGION * REGION];
+shared float sViewZ[REGION * REGION];
+shared float sNormalX[REGION * REGION]; // View-space normals (the plane test needs them there).
 shared float sNormalY[REGION * REGION];
 shared float sNormalZ[REGION * REGION];
 shared uint sTileClass[GROUP_TILES_X * GROUP_TILES_Y];
 
-void WriteResult(ivec2 pixel, float shadow, float variance)
+float Pow32(float x)
 {
-    if (gIsLastPass != 0u)
-        imageStore(gOut_Final, pixel, vec4(clamp(shadow, 0.0, 1.0)));
-    else
-        imageStore(gOut_Shadow, pixel, vec4(shadow, variance, 0.0, 0.0));
+    x *= x;
+    x *= x;
+    x *= x;
+    x *= x;
+    return x * x;
+}
+
+// One output texel ('center' indexes the shared arrays); 'isPower32' selects the fast normal weight.
+vec2 FilterTexel(int center, ivec2 pixel, bool isPower32)
+{
+    vec2 shadowCenter = unpackHalf2x16(sShadow[center]);
+    float zCenter = sViewZ[center];
+
+    // Variance prefiltered with a 3x3 Gaussian (1/4, 1/8, 1/16), at most 4x the pixel's own: a
+    // settled umbra or lit pixel (variance 0) next to a penumbra takes nothing from it.
+    float variance = 0.0;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++)
+            variance += (dx == 0 ? 0.5 : 0.25) * (dy == 0 ? 0.5 : 0.25) * unpackHalf2x16(sShadow[center + dy * REGION + dx]).y;
+    variance = min(variance, 4.0 * shadowCenter.y);
+    float shadowScale = LOG2_E * inversesqrt(max(variance, 0.0) + 1e-9);
+
+    // Tangent plane of the centre in view space: plane(X') = dot(Nv, X') - dot(Nv, Xc) with
+    // X' = z' * (ndc'.x * f.x + f.y, ndc'.y * f.z + f.w, sign); per tap it costs two FMAs.
+    vec3 N = vec3(sNormalX[center], sNormalY[center], sNormalZ[center]);
+    vec2 ndc = _NRD_PixelUv(pixel) * 2.0 - 1.0;
+    float planeCenter = N.x * (ndc.x * gFrustum.x + gFrustum.y) + N.y * (ndc.y * gFrustum.z + gFrustum.w) + N.z * gViewZSign;
+    vec2 planeStep = N.xy * gFrustum.xz * 2.0 * gInvResourceSize * float(TILED_SHADOW_STEP);
+    float planeScale = gPlaneDistanceScale / max(zCenter, 1e-30); // Denormal viewZ: no Inf * 0.
+    float planeOffset = zCenter * planeCenter;
+
+    float weightSum = 1.0;
+    vec2 sum = shadowCenter;
+    for (int dy = -1; dy <= 1; dy++)
+    {
+        for (int dx = -1; dx <= 1; dx++)
+        {
+            if (dx == 0 && dy == 0)
+                continue;
+            int i = center + (dy * REGION + dx) * TILED_SHADOW_STEP;
+            float z = sViewZ[i];
+            vec2 shadow = unpackHalf2x16(sShadow[i]);
+            float NoN = max(N.x * sNormalX[i] + N.y * sNormalY[i] + N.z * sNormalZ[i], 0.0);
+            float plane = z * (planeCenter + float(dx) * planeStep.x + float(dy) * planeStep.y) - planeOffset;
+            float kernel = (dx != 0 ? LOG2_TWO_THIRDS : 0.0) + (dy != 0 ? LOG2_TWO_THIRDS : 0.0);
+            // Dark values take less: relative to a small value a difference is a large error.
+            float darkness = (1.0 + TS_DARK_BIAS) / (min(shadow.x, shadowCenter.x) + TS_DARK_BIAS);
+            float exponent = kernel - abs(shadow.x - shadowCenter.x) * shadowScale * darkness - abs(plane) * planeScale;
+            float w;
+            if (isPower32)
+                w = exp2(exponent) * Pow32(NoN); // Zero for sky and outside (zero normal).
+            else
+                w = z == 0.0 ? 0.0 : exp2(exponent + gNormalPower * log2(max(NoN, 1e-8)));
+            sum += vec2(w, w * w) * shadow;
+            weightSum += w;
+        }
+    }
+    return vec2(sum.x / weightSum, sum.y / (weightSum * weightSum));
 }
 
 void main()
@@ -58,9 +118,9 @@ void main()
     // Sky pixels are never written; the first pass stores the history state of every pixel.
     float viewZ = isInside ? texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x : 0.0;
     bool isSkyPixel = _NRD_IsSky(viewZ);
-    vec2 moments = vec2(0.0);
+    uint moments = 0u;
     if (gIsFirstPass != 0u && isInside)
-        moments = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0).zw;
+        moments = texelFetch(usampler2D(gIn_Moments, gNearestClamp), pixel, 0).x;
     barrier();
 
     bool isGroupSkipped = true;
@@ -70,11 +130,15 @@ void main()
 
     float result = tileClass == TS_TILE_LIT ? 1.0 : 0.0;
     float resultVariance = 0.0;
+    // The next frame's history is the classification's temporal result, unfiltered: spatially
+    // filtered history would carry this frame's blur (early, boosted frames) for many frames.
+    float temporal = result;
 
     if (!isGroupSkipped)
     {
         // Samples of the group and its border.
         ivec2 regionOrigin = groupOrigin - BORDER;
+        mat3 viewToWorld = mat3(gViewToWorld);
         for (uint i = threadIndex; i < REGION * REGION; i += GROUP_SIZE * GROUP_SIZE)
         {
             ivec2 p = regionOrigin + ivec2(i % REGION, i / REGION);
@@ -84,10 +148,15 @@ void main()
             if (all(lessThan(uvec2(p), gResourceSize)))
             {
                 z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), p, 0).x;
-                if (_NRD_IsSky(z))
-                    z = 0.0;
                 shadow = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), p, 0).xy;
                 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_Normal, gNearestClamp), p, 0)).xyz;
+                N = N * viewToWorld; // Transposed rotation: world -> view.
+                if (_NRD_IsSky(z))
+                {
+                    z = 0.0;
+                    shadow = vec2(0.0);
+                    N = vec3(0.0);
+                }
             }
             sShadow[i] = packHalf2x16(shadow);
             sViewZ[i] = z;
@@ -97,62 +166,13 @@ void main()
         }
         barrier();
 
-        int center = (local.y + BORDER) * REGION + local.x + BORDER;
-        vec2 shadowCenter = unpackHalf2x16(sShadow[center]);
-        float zCenter = sViewZ[center];
-
         if (tileClass == TS_TILE_FILTERED && !isSkyPixel)
         {
-            // Variance prefiltered with a 3x3 Gaussian (1/4, 1/8, 1/16) over the surface pixels.
-            float varianceSum = 0.0, varianceWeight = 0.0;
-            for (int dy = -1; dy <= 1; dy++)
-            {
-                for (int dx = -1; dx <= 1; dx++)
-                {
-                    int i = center + dy * REGION + dx;
-                    if (sViewZ[i] == 0.0)
-                        continue; // Sky and outside: never written, may hold anything.
-                    float w = (dx == 0 ? 2.0 : 1.0) * (dy == 0 ? 2.0 : 1.0);
-                    varianceSum += w * unpackHalf2x16(sShadow[i]).y;
-                    varianceWeight += w;
-                }
-            }
-            float sigma = sqrt(max(varianceSum / varianceWeight, 0.0) + 1e-9);
-            float shadowScale = LOG2_E / sigma;
-
-            // Tangent plane of the centre in view space: plane(X') = dot(Nv, X') - dot(Nv, Xc) with
-            // X' = z' * (ndc'.x * f.x + f.y, ndc'.y * f.z + f.w, sign); per tap it costs one FMA.
-            vec3 N = vec3(sNormalX[center], sNormalY[center], sNormalZ[center]);
-            vec3 Nv = N * mat3(gViewToWorld); // Transposed rotation: world -> view.
-            vec2 ndc = _NRD_PixelUv(pixel) * 2.0 - 1.0;
-            float planeCenter = Nv.x * (ndc.x * gFrustum.x + gFrustum.y) + Nv.y * (ndc.y * gFrustum.z + gFrustum.w) + Nv.z * gViewZSign;
-            vec2 planeStep = Nv.xy * gFrustum.xz * 2.0 * gInvResourceSize * float(TILED_SHADOW_STEP);
-            float planeScale = gPlaneDistanceScale / max(zCenter, 1e-30); // Denormal viewZ: no Inf * 0.
-
-            float weightSum = 1.0;
-            vec2 sum = shadowCenter * vec2(1.0, 1.0);
-            for (int dy = -1; dy <= 1; dy++)
-            {
-                for (int dx = -1; dx <= 1; dx++)
-                {
-                    if (dx == 0 && dy == 0)
-                        continue;
-                    int i = center + (dy * REGION + dx) * TILED_SHADOW_STEP;
-                    float z = sViewZ[i];
-                    if (z == 0.0)
-                        continue;
-                    vec2 shadow = unpackHalf2x16(sShadow[i]);
-                    float NoN = max(dot(N, vec3(sNormalX[i], sNormalY[i], sNormalZ[i])), 0.0);
-                    float plane = z * (planeCenter + float(dx) * planeStep.x + float(dy) * planeStep.y) - zCenter * planeCenter;
-                    float kernel = (dx != 0 ? LOG2_TWO_THIRDS : 0.0) + (dy != 0 ? LOG2_TWO_THIRDS : 0.0);
-                    float w = exp2(kernel - abs(shadow.x - shadowCenter.x) * shadowScale - abs(plane) * planeScale +
-                                   gNormalPower * log2(max(NoN, 1e-8)));
-                    sum += vec2(w, w * w) * shadow;
-                    weightSum += w;
-                }
-            }
-            result = sum.x / weightSum;
-            resultVariance = sum.y / (weightSum * weightSum);
+            int center = (local.y + BORDER) * REGION + local.x + BORDER;
+            temporal = unpackHalf2x16(sShadow[center]).x;
+            vec2 filtered = gNormalPower == 32.0 ? FilterTexel(center, pixel, true) : FilterTexel(center, pixel, false);
+            result = filtered.x;
+            resultVariance = filtered.y;
         }
     }
 
@@ -162,10 +182,13 @@ void main()
     if (gIsFirstPass != 0u)
     {
         // Sky keeps its viewZ (never matches a surface) and no samples.
-        float samples = isSkyPixel ? 0.0 : moments.y;
-        uint history = _TS_PackHistory(isSkyPixel ? 0.0 : result, moments.x, samples);
-        imageStore(gOut_State, pixel, uvec4(floatBitsToUint(viewZ), history, 0u, 0u));
+        imageStore(gOut_State, pixel, uvec4(_TS_PackState(viewZ, temporal, isSkyPixel ? 0u : moments), 0u, 0u));
     }
     if (!isSkyPixel)
-        WriteResult(pixel, result, resultVariance);
+    {
+        if (gIsLastPass != 0u)
+            imageStore(gOut_Final, pixel, vec4(clamp(result, 0.0, 1.0)));
+        else
+            imageStore(gOut_Shadow, pixel, vec4(result, resultVariance, 0.0, 0.0));
+    }
 }

@@ -17,11 +17,12 @@ NRD_CONSTANTS_BEGIN
     NRD_CONSTANT(uint, gIsFirstPass)             // Writes the history state.
     NRD_CONSTANT(uint, gIsLastPass)              // Writes OUT_SHADOW_TRANSLUCENCY instead of gOut_Shadow.
 NRD_CONSTANTS_END
-NRD_INPUT(0, gIn_Shadow)                         // .x shadow, .y variance (.zw temporal mean, samples: first pass).
-NRD_INPUT(1, gIn_ViewZ)
-NRD_INPUT(2, gIn_Normal)
-NRD_INPUT_UINT(3, gIn_TileClass)
-NRD_OUTPUT(4, gOut_Shadow)                       // .x shadow, .y variance for the next pass.
-NRD_OUTPUT(5, gOut_Final)                        // OUT_SHADOW_TRANSLUCENCY.
-NRD_INOUT_UINT(6, gOut_State, rg32ui)            // Permanent state, written by the first pass.
+NRD_INPUT(0, gIn_Shadow)                         // .x shadow, .y variance.
+NRD_INPUT_UINT(1, gIn_Moments)                   // Classification's packed moments (read by the first pass).
+NRD_INPUT(2, gIn_ViewZ)
+NRD_INPUT(3, gIn_Normal)
+NRD_INPUT_UINT(4, gIn_TileClass)
+NRD_OUTPUT(5, gOut_Shadow)                       // .x shadow, .y variance for the next pass (RG16F).
+NRD_OUTPUT(6, gOut_Final)                        // OUT_SHADOW_TRANSLUCENCY.
+NRD_INOUT_UINT(7, gOut_State, rg32ui)            // Permanent state, written by the first pass.
 NRD_PASS_END
