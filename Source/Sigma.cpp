@@ -153,7 +153,7 @@ public:
         {
             // Frame parity i reads history[1 - i] and writes history[i].
             m_Temporal[i] = builder.AddDispatch<typename P::TemporalStabilization>(
-                P::kTemporalName, {viewZ, mv, postBlurred, tiles, history[1 - i], historyViewZ[1 - i], output,
+                P::kTemporalName, {normal, viewZ, mv, postBlurred, penumbra, tiles, history[1 - i], historyViewZ[1 - i], output,
                                    history[i], historyViewZ[i]});
         }
     }

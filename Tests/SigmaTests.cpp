@@ -30,12 +30,12 @@ constexpr float kOutputSentinel = 2.0f; // Written into the output before denois
 
 // Quality factors relMSE(noisy) / relMSE(denoised). Each test prints what it measures; the
 // thresholds are about half of what lavapipe measured (in brackets).
-constexpr double kStaticFactor = 35.0;       // [77x] 256x256, radius 10 px, after 8 still frames.
+constexpr double kStaticFactor = 30.0;       // [64x] 256x256, radius 10 px, after 8 still frames.
 constexpr double kFirstFrameFactor = 15.0;   // [30x] Frame 0: spatial filtering alone.
-constexpr double kTranslucencyFactor = 25.0; // [58x shadow, 80x translucency] 128x128, 6 frames.
-constexpr double kSlidingEdgeFactor = 7.0;   // [15x] The light moves 1.5 px per frame.
-constexpr double kMovingCameraFactor = 28.0; // [59x] The camera moves 1.5 px per frame.
-constexpr double kGroundPlaneFactor = 25.0;  // [52x] Grazing ground plane, varying depth.
+constexpr double kTranslucencyFactor = 25.0; // [53x shadow, 69x translucency] 128x128, 6 frames.
+constexpr double kSlidingEdgeFactor = 8.0;   // [17x] The light moves 1.5 px per frame.
+constexpr double kMovingCameraFactor = 28.0; // [57x] The camera moves 1.5 px per frame.
+constexpr double kGroundPlaneFactor = 22.0;  // [45x] Grazing ground plane, varying depth.
 constexpr double kSpatialOnlyFactor = 11.0;  // [23x] maxStabilizedFrameNum = 0 (then restarted).
 
 struct Scene
@@ -623,15 +623,16 @@ TEST_CASE("SIGMA dispatch sequence and pools (golden)", "[api][sigma]")
             CHECK(list[3]->name == prefix + " - Temporal stabilization");
             CHECK(list[0]->gridWidth == 120); // One 16x16 group per tile.
             CHECK(list[0]->gridHeight == 68);
-            // History ping-pong: frame parity f writes permanent textures 2f, 2f + 1 (bindings 7, 8)
-            // and reads the other pair (bindings 4, 5).
+            // History ping-pong: frame parity f writes permanent textures 2f, 2f + 1 (bindings 9, 10)
+            // and reads the other pair (bindings 6, 7).
             const DispatchDesc& temporal = *list[3];
-            REQUIRE(temporal.resourcesNum == 9);
-            CHECK(temporal.resources[4].type == ResourceType::PERMANENT_POOL);
-            CHECK(temporal.resources[4].indexInPool == 2 * (1 - f));
-            CHECK(temporal.resources[7].indexInPool == 2 * f);
-            CHECK(temporal.resources[8].indexInPool == 2 * f + 1);
-            CHECK(temporal.resources[6].type == ResourceType::OUT_SHADOW_TRANSLUCENCY);
+            REQUIRE(temporal.resourcesNum == 11);
+            CHECK(temporal.resources[6].type == ResourceType::PERMANENT_POOL);
+            CHECK(temporal.resources[6].indexInPool == 2 * (1 - f));
+            CHECK(temporal.resources[7].indexInPool == 2 * (1 - f) + 1);
+            CHECK(temporal.resources[9].indexInPool == 2 * f);
+            CHECK(temporal.resources[10].indexInPool == 2 * f + 1);
+            CHECK(temporal.resources[8].type == ResourceType::OUT_SHADOW_TRANSLUCENCY);
         }
 
         SigmaSettings settings = {};
@@ -767,6 +768,33 @@ TEST_CASE("SIGMA denoises a penumbra on a ground plane seen at a grazing angle",
         }
         std::printf("SIGMA ground plane quality factor: %.1fx\n", noisySum / denoisedSum);
         CHECK(noisySum / denoisedSum > kGroundPlaneFactor);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("SIGMA leaves no light behind in the umbra of a hard shadow that moves", "[vulkan][sigma]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    {
+        Scene scene;
+        scene.width = 96;
+        scene.height = 64;
+        scene.penumbraRadius = 0.3f; // Sub-pixel: a hard shadow.
+        SigmaRig rig(*context, Method::SIGMA_SHADOW, scene);
+        rig.Create();
+        for (uint32_t frame = 0; frame < 10; frame++)
+        {
+            rig.scene.edgeOffset = -20.0f + 4.0f * float(frame); // The occluder moves 4 px per frame.
+            FrameData f = MakeFrame(rig.scene, 12000 + frame);
+            std::vector<float> output = rig.Frame(frame, f);
+            size_t lightInUmbra = 0;
+            for (size_t i = 0; i < output.size(); i += 4)
+                lightInUmbra += f.truth[i] == 0.0f && output[i] > 0.02f;
+            INFO("frame " << frame);
+            CHECK(lightInUmbra == 0);
+            CHECK(RelMse(rig.scene, output, f.truth) <= RelMse(rig.scene, f.noisy, f.truth));
+        }
     }
     CHECK(context->ValidationMessageCount() == 0);
 }

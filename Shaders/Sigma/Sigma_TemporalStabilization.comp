@@ -2,11 +2,14 @@
 //
 // Reprojects this pixel into the previous frame (camera motion from the matrices, object motion
 // from IN_MV, 2D or world-space 3D), fetches the previous result with a bilinear footprint whose
-// taps are dropped when their stored viewZ disagrees with the expected one (disocclusion), clamps
-// it to mean +- sigma of the blurred current frame's 5x5 neighbourhood (a moving shadow cannot
-// leave a ghost), shortens the history where clamping had to move it (anti-lag) and blends with a
-// per-pixel history length of at most gMaxStabilizedFrameNum frames. History = this frame's result,
-// stored with its viewZ and history length (viewZ bits with the 5 low bits replaced by the length).
+// taps are dropped when their stored viewZ disagrees with the expected one (disocclusion; the
+// tolerance grows with the surface's grazing angle), resamples it with Catmull-Rom where the whole
+// footprint is valid, clamps it to mean +- sigma of the blurred current frame's 5x5 neighbourhood
+// on the same surface (a moving shadow cannot leave a ghost), shortens the history where clamping
+// had to move it (anti-lag) and blends with a per-pixel history length of at most
+// gMaxStabilizedFrameNum frames. Hard shadows (sub-pixel penumbra) keep history only where it needs
+// no resampling. History = this frame's result, stored with its viewZ and history length (viewZ
+// bits with the 5 low bits replaced by the length).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -18,11 +21,16 @@
 #define BORDER 2
 #define SMEM_SIZE (SIGMA_TILE_SIZE + 2 * BORDER)
 #define HISTORY_LENGTH_MASK 31u
-#define SIGMA_SCALE 1.0     // Clamping box: mean +- SIGMA_SCALE * sigma.
-#define ANTILAG_SCALE 10.0  // History length lost per unit of clamping displacement.
+// Clamping box: mean +- SIGMA_SCALE * sigma. History length lost per unit of clamping displacement:
+// higher values follow moving shadows (moving lights and occluders) sooner at some cost in noise
+// on still ones (measured on the scene lab's static / moving_light / moving_occluder scenes).
+#define SIGMA_SCALE 1.0
+#define ANTILAG_SCALE 15.0
+#define HARD_SHADOW_ARRIVAL 0.75
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
+shared vec3 s_Normal[SMEM_SIZE][SMEM_SIZE]; // World space
 
 SIGMA_TYPE LoadBlurred(ivec2 pixel)
 {
@@ -41,6 +49,34 @@ SIGMA_TYPE LoadHistory(ivec2 pixel)
 #else
     return _Sigma_Signal01(texelFetch(sampler2D(gPrev_Shadow, gNearestClamp), pixel, 0).x);
 #endif
+}
+
+// Catmull-Rom resampling of the previous history around the bilinear footprint 'origin' + 'f'
+// (taps outside the image are clamped to it); the 4 corner taps, whose weights are tiny, are left
+// out and the rest renormalized. Clamped to [0, 1] against ringing.
+SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
+{
+    vec2 w0 = f * (-0.5 + f * (1.0 - 0.5 * f));
+    vec2 w1 = 1.0 + f * f * (-2.5 + 1.5 * f);
+    vec2 w2 = f * (0.5 + f * (2.0 - 1.5 * f));
+    vec2 w3 = f * f * (-0.5 + 0.5 * f);
+    float wx[4] = float[4](w0.x, w1.x, w2.x, w3.x);
+    float wy[4] = float[4](w0.y, w1.y, w2.y, w3.y);
+    ivec2 maxPixel = ivec2(gResourceSize) - 1;
+    SIGMA_TYPE sum = SIGMA_TYPE(0.0);
+    float weightSum = 0.0;
+    for (int j = 0; j < 4; j++)
+    {
+        for (int i = 0; i < 4; i++)
+        {
+            if ((i == 0 || i == 3) && (j == 0 || j == 3))
+                continue;
+            float w = wx[i] * wy[j];
+            sum += LoadHistory(clamp(origin + ivec2(i - 1, j - 1), ivec2(0), maxPixel)) * w;
+            weightSum += w;
+        }
+    }
+    return _Sigma_Signal01(sum / weightSum);
 }
 
 uint PackViewZAndHistoryLength(float viewZ, float historyLength)
@@ -83,6 +119,7 @@ void main()
         ivec2 p = groupOrigin + smemPos;
         float z = 0.0;
         SIGMA_TYPE s = SIGMA_TYPE(0.0);
+        vec3 n = vec3(0.0);
         if (all(greaterThanEqual(p, ivec2(0))) && all(lessThan(uvec2(p), gResourceSize)))
         {
             float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), p, 0).x;
@@ -90,10 +127,12 @@ void main()
             {
                 z = viewZ;
                 s = LoadBlurred(p);
+                n = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), p, 0)).xyz;
             }
         }
         s_ViewZ[smemPos.y][smemPos.x] = z;
         s_Signal[smemPos.y][smemPos.x] = s;
+        s_Normal[smemPos.y][smemPos.x] = n;
     }
     barrier();
 
@@ -107,46 +146,58 @@ void main()
         return; // Sky: output not written.
     }
 
-    // Neighbourhood statistics of the blurred current frame (5x5, sky excluded).
+    // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
+    // then exact away from edges, and history only helps (anti-aliasing) on a still view.
+    float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
+    bool isHardShadow = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0)) < 1.0;
+
+    vec2 uv = _NRD_PixelUv(pixel);
+    vec3 Xv = _NRD_ViewPosition(uv, viewZ);
+    vec3 N = s_Normal[c.y][c.x];
+    vec3 Nv = _Sigma_ViewNormal(N);
+    SigmaPlane plane = _Sigma_Plane(uv, viewZ, Nv);
+
+    // Neighbourhood statistics of the blurred current frame (5x5; sky and other surfaces excluded
+    // by plane distance and normals, so a thin object's box is not widened by its background).
+    SIGMA_TYPE current = s_Signal[c.y][c.x];
     SIGMA_TYPE m1 = SIGMA_TYPE(0.0);
     SIGMA_TYPE m2 = SIGMA_TYPE(0.0);
-    float count = 0.0;
+    SIGMA_TYPE minimum = current; // 3x3 range, for hard shadows
+    SIGMA_TYPE maximum = current;
+    float weightSum = 0.0;
     for (int j = -BORDER; j <= BORDER; j++)
     {
         for (int i = -BORDER; i <= BORDER; i++)
         {
-            if (s_ViewZ[c.y + j][c.x + i] == 0.0)
-                continue;
+            float z = s_ViewZ[c.y + j][c.x + i];
+            float w = z == 0.0 ? 0.0 : _Sigma_NeighbourPlaneWeight(plane, i, j, z) * _Sigma_NormalWeight(N, s_Normal[c.y + j][c.x + i]);
             SIGMA_TYPE s = s_Signal[c.y + j][c.x + i];
-            m1 += s;
-            m2 += s * s;
-            count += 1.0;
+            m1 += s * w;
+            m2 += s * s * w;
+            weightSum += w;
+            if (abs(i) <= 1 && abs(j) <= 1 && w > 0.5)
+            {
+                minimum = min(minimum, s);
+                maximum = max(maximum, s);
+            }
         }
     }
-    m1 /= count; // >= 1: the center is not sky.
-    m2 /= count;
+    m1 /= weightSum; // >= 1: the center has weight 1.
+    m2 /= weightSum;
     SIGMA_TYPE sigma = sqrt(max(m2 - m1 * m1, SIGMA_TYPE(0.0)));
-    SIGMA_TYPE current = s_Signal[c.y][c.x];
-
-    // Depth slope around the pixel: the disocclusion tolerance must cover a one-pixel step of the
-    // footprint on surfaces seen at grazing angles.
-    float slope = 0.0;
-    for (int k = 0; k < 4; k++)
-    {
-        ivec2 o = ivec2(k == 0 ? 1 : (k == 1 ? -1 : 0), k == 2 ? 1 : (k == 3 ? -1 : 0));
-        float z = s_ViewZ[c.y + o.y][c.x + o.x];
-        if (z != 0.0)
-            slope = max(slope, abs(z - viewZ));
-    }
 
     // Reprojection.
-    vec2 uv = _NRD_PixelUv(pixel);
-    vec3 X = _NRD_WorldPosition(uv, viewZ);
+    vec3 X = (gViewToWorld * vec4(Xv, 1.0)).xyz;
     vec3 mv = texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz;
     vec3 Xprev;
     vec2 uvPrev = _NRD_PreviousUv(uv, X, mv, Xprev);
     float expectedViewZ = _NRD_PreviousViewZ(Xprev);
-    float tolerance = gDisocclusionThreshold * abs(expectedViewZ) + 1.5 * slope;
+
+    // Disocclusion tolerance: relative depth, plus the depth change across the one pixel that
+    // separates a bilinear tap from the reprojected point on a surface seen at a grazing angle.
+    float NoV = abs(dot(Nv, normalize(Xv)));
+    float tanTheta = min(sqrt(max(1.0 - NoV * NoV, 0.0)) / max(NoV, 0.05), 5.0);
+    float tolerance = gDisocclusionThreshold * abs(expectedViewZ) + viewZ / gProjectY * tanTheta;
 
     // Bilinear footprint with per-tap disocclusion test.
     vec2 footprint = uvPrev * vec2(gResourceSize) - 0.5;
@@ -158,6 +209,12 @@ void main()
     float historyWeight = 0.0;
     bool isValidUv = gResetHistory == 0u && !isnan(footprint.x) && !isnan(footprint.y) && abs(footprint.x) < 65536.0 &&
                      abs(footprint.y) < 65536.0;
+    // A hard shadow keeps history only where it needs no resampling (still camera and surface): the
+    // input is as sharp as the truth there, and resampled history (even Catmull-Rom) would soften
+    // it. (Fading history out up to 3-pixel penumbrae instead helped rotating cameras and hurt
+    // translating ones by as much.)
+    vec2 subpixel = min(f, 1.0 - f);
+    isValidUv = isValidUv && !(isHardShadow && max(subpixel.x, subpixel.y) >= 0.01);
     for (int k = 0; k < 4 && isValidUv; k++)
     {
         ivec2 q = origin + ivec2(k & 1, k >> 1);
@@ -180,8 +237,22 @@ void main()
         history /= historyWeight;
         historyLength /= historyWeight;
 
-        SIGMA_TYPE clamped = clamp(history, m1 - SIGMA_SCALE * sigma, m1 + SIGMA_SCALE * sigma);
+        // With the whole bilinear footprint valid, resample with Catmull-Rom (12 taps, corners
+        // dropped) instead: repeated bilinear resampling under camera motion blurs the history a
+        // little more every frame, which shows on sharp shadow edges.
+        if (historyWeight > 0.999 && !isHardShadow)
+            history = CatmullRomHistory(origin, f);
+
+        // Soft shadows: mean +- sigma of the blurred frame. Hard shadows: the 3x3 range of the
+        // (exact away from edges) input, so a shadow that moved leaves nothing outside the pixel
+        // ring along its new edge, where a 5x5 box spanning both sides would keep the old one.
+        SIGMA_TYPE clamped = isHardShadow ? clamp(history, minimum, maximum)
+                                          : clamp(history, m1 - SIGMA_SCALE * sigma, m1 + SIGMA_SCALE * sigma);
         float antilag = 1.0 - clamp(_Sigma_MaxComponent(abs(clamped - history)) * ANTILAG_SCALE, 0.0, 1.0);
+        // A hard shadow that arrives (an exact dark sample under bright history) restarts the
+        // history: brightness left in the dark is the costly error. One that leaves is only lagged.
+        if (isHardShadow && _Sigma_MaxComponent(history - current) > HARD_SHADOW_ARRIVAL)
+            antilag = 0.0;
         historyLength = min(historyLength * antilag, gMaxStabilizedFrameNum);
 
         result = mix(current, clamped, historyLength / (historyLength + 1.0));

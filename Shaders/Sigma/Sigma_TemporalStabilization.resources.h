@@ -11,17 +11,19 @@ NRD_CONSTANTS_BEGIN
     NRD_COMMON_CONSTANTS
     SIGMA_CONSTANTS
 NRD_CONSTANTS_END
-NRD_INPUT(0, gIn_ViewZ)
-NRD_INPUT(1, gIn_Mv)
-NRD_INPUT(2, gIn_Shadow)
-NRD_INPUT(3, gIn_Tiles)
-NRD_INPUT(4, gPrev_Shadow)
-NRD_INPUT_UINT(5, gPrev_ViewZHistoryLength)
-NRD_OUTPUT(6, gOut_ShadowTranslucency)
+NRD_INPUT(0, gIn_NormalRoughness)
+NRD_INPUT(1, gIn_ViewZ)
+NRD_INPUT(2, gIn_Mv)
+NRD_INPUT(3, gIn_Shadow)
+NRD_INPUT(4, gIn_Penumbra)
+NRD_INPUT(5, gIn_Tiles)
+NRD_INPUT(6, gPrev_Shadow)
+NRD_INPUT_UINT(7, gPrev_ViewZHistoryLength)
+NRD_OUTPUT(8, gOut_ShadowTranslucency)
 #if SIGMA_TRANSLUCENCY
-NRD_INOUT(7, gHistory_Shadow, rgba16f)
+NRD_INOUT(9, gHistory_Shadow, rgba16f)
 #else
-NRD_INOUT(7, gHistory_Shadow, r16f)
+NRD_INOUT(9, gHistory_Shadow, r16f)
 #endif
-NRD_INOUT_UINT(8, gHistory_ViewZHistoryLength, r32ui)
+NRD_INOUT_UINT(10, gHistory_ViewZHistoryLength, r32ui)
 NRD_PASS_END
