@@ -30,7 +30,6 @@
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
-shared vec3 s_Normal[SMEM_SIZE][SMEM_SIZE]; // World space
 
 SIGMA_TYPE LoadBlurred(ivec2 pixel)
 {
@@ -119,7 +118,6 @@ void main()
         ivec2 p = groupOrigin + smemPos;
         float z = 0.0;
         SIGMA_TYPE s = SIGMA_TYPE(0.0);
-        vec3 n = vec3(0.0);
         if (all(greaterThanEqual(p, ivec2(0))) && all(lessThan(uvec2(p), gResourceSize)))
         {
             float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), p, 0).x;
@@ -127,12 +125,10 @@ void main()
             {
                 z = viewZ;
                 s = LoadBlurred(p);
-                n = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), p, 0)).xyz;
             }
         }
         s_ViewZ[smemPos.y][smemPos.x] = z;
         s_Signal[smemPos.y][smemPos.x] = s;
-        s_Normal[smemPos.y][smemPos.x] = n;
     }
     barrier();
 
@@ -153,12 +149,12 @@ void main()
 
     vec2 uv = _NRD_PixelUv(pixel);
     vec3 Xv = _NRD_ViewPosition(uv, viewZ);
-    vec3 N = s_Normal[c.y][c.x];
+    vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
     vec3 Nv = _Sigma_ViewNormal(N);
     SigmaPlane plane = _Sigma_Plane(uv, viewZ, Nv);
 
     // Neighbourhood statistics of the blurred current frame (5x5; sky and other surfaces excluded
-    // by plane distance and normals, so a thin object's box is not widened by its background).
+    // by plane distance, so a thin object's box is not widened by its background).
     SIGMA_TYPE current = s_Signal[c.y][c.x];
     SIGMA_TYPE m1 = SIGMA_TYPE(0.0);
     SIGMA_TYPE m2 = SIGMA_TYPE(0.0);
@@ -170,7 +166,7 @@ void main()
         for (int i = -BORDER; i <= BORDER; i++)
         {
             float z = s_ViewZ[c.y + j][c.x + i];
-            float w = z == 0.0 ? 0.0 : _Sigma_NeighbourPlaneWeight(plane, i, j, z) * _Sigma_NormalWeight(N, s_Normal[c.y + j][c.x + i]);
+            float w = z == 0.0 ? 0.0 : _Sigma_NeighbourPlaneWeight(plane, i, j, z);
             SIGMA_TYPE s = s_Signal[c.y + j][c.x + i];
             m1 += s * w;
             m2 += s * s * w;
