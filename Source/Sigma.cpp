@@ -101,15 +101,14 @@ Result ValidateSigmaSettings(const SigmaSettings& s, const Logger& log)
     }
     if (s.maxStabilizedFrameNum > SIGMA_MAX_HISTORY_FRAME_NUM)
     {
-        log.Error("SetMethodSettings: SigmaSettings::maxStabilizedFrameNum %u is outside [0, %u]", s.maxStabilizedFrameNum,
-                  SIGMA_MAX_HISTORY_FRAME_NUM);
+        log.Error("SetMethodSettings: SigmaSettings::maxStabilizedFrameNum %u is outside [0, %u]",
+                  s.maxStabilizedFrameNum, SIGMA_MAX_HISTORY_FRAME_NUM);
         return Result::INVALID_ARGUMENT;
     }
     return Result::SUCCESS;
 }
 
-template <class P>
-class Sigma final : public MethodBase
+template <class P> class Sigma final : public MethodBase
 {
 public:
     explicit Sigma(MethodBuilder& builder)
@@ -153,8 +152,8 @@ public:
         {
             // Frame parity i reads history[1 - i] and writes history[i].
             m_Temporal[i] = builder.AddDispatch<typename P::TemporalStabilization>(
-                P::kTemporalName, {normal, viewZ, mv, postBlurred, penumbra, tiles, history[1 - i], historyViewZ[1 - i], output,
-                                   history[i], historyViewZ[i]});
+                P::kTemporalName, {normal, viewZ, mv, postBlurred, penumbra, tiles, history[1 - i], historyViewZ[1 - i],
+                                   output, history[i], historyViewZ[i]});
         }
     }
 
@@ -203,8 +202,7 @@ public:
     }
 
 private:
-    template <class To, class From>
-    static To Cast(const From& from)
+    template <class To, class From> static To Cast(const From& from)
     {
         static_assert(sizeof(To) == sizeof(From), "same layout");
         To to;
@@ -217,7 +215,8 @@ private:
         const float* l = m_Settings.lightDirection;
         float v[3];
         for (int row = 0; row < 3; row++)
-            v[row] = worldToView[0 * 4 + row] * l[0] + worldToView[1 * 4 + row] * l[1] + worldToView[2 * 4 + row] * l[2];
+            v[row] =
+                worldToView[0 * 4 + row] * l[0] + worldToView[1 * 4 + row] * l[1] + worldToView[2 * 4 + row] * l[2];
         float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         if (!(length > 1e-12f) || !std::isfinite(length))
             return {0.0f, 0.0f, 0.0f, 0.0f};

@@ -42,11 +42,11 @@ struct Scene
 {
     uint32_t width = 128;
     uint32_t height = 128;
-    float penumbraRadius = 8.0f; // Pixels at the plane's depth.
-    float edgeAngle = 0.35f;     // Radians from the vertical.
-    float edgeOffset = 0.0f;     // Pixels from the image center along the edge normal.
-    float cameraShift = 0.0f;    // Camera translation along +x in pixels at the plane's depth.
-    bool hasSky = false;         // The top quarter is sky (viewZ = +Inf).
+    float penumbraRadius = 8.0f;                // Pixels at the plane's depth.
+    float edgeAngle = 0.35f;                    // Radians from the vertical.
+    float edgeOffset = 0.0f;                    // Pixels from the image center along the edge normal.
+    float cameraShift = 0.0f;                   // Camera translation along +x in pixels at the plane's depth.
+    bool hasSky = false;                        // The top quarter is sky (viewZ = +Inf).
     float translucency[3] = {0.2f, 0.5f, 0.8f}; // Transmittance of the occluder.
 
     bool IsSky(uint32_t, uint32_t y) const { return hasSky && y < height / 4; }
@@ -54,7 +54,8 @@ struct Scene
     float Truth(uint32_t x, uint32_t y) const
     {
         float nx = std::cos(edgeAngle), ny = std::sin(edgeAngle);
-        float d = (float(x) + cameraShift + 0.5f - 0.5f * float(width)) * nx + (float(y) + 0.5f - 0.5f * float(height)) * ny - edgeOffset;
+        float d = (float(x) + cameraShift + 0.5f - 0.5f * float(width)) * nx +
+                  (float(y) + 0.5f - 0.5f * float(height)) * ny - edgeOffset;
         return std::min(std::max((d + penumbraRadius) / (2.0f * penumbraRadius), 0.0f), 1.0f);
     }
 
@@ -175,7 +176,8 @@ struct SigmaRig
         REQUIRE(context.CreateTexture(rhi::Format::RG16_SFLOAT, w, h, "IN_SHADOWDATA", shadowData) == VK_SUCCESS);
         REQUIRE(context.CreateTexture(rhi::Format::RGBA16_SFLOAT, w, h, "IN_SHADOW_TRANSLUCENCY", shadowTranslucency) ==
                 VK_SUCCESS);
-        REQUIRE(context.CreateTexture(rhi::Format::RGBA16_SFLOAT, w, h, "OUT_SHADOW_TRANSLUCENCY", output) == VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::RGBA16_SFLOAT, w, h, "OUT_SHADOW_TRANSLUCENCY", output) ==
+                VK_SUCCESS);
         std::vector<float> sentinel(size_t(w) * h * 4, kOutputSentinel);
         REQUIRE(context.UploadTexture(output, sentinel.data(), rhi::Layout::GENERAL) == VK_SUCCESS);
     }
@@ -406,15 +408,26 @@ TEST_CASE("SIGMA output stays finite with NaN and Inf inputs", "[vulkan][sigma]"
                 float bad = (k & 1) ? NAN : INFINITY;
                 switch (k % 5)
                 {
-                case 0: f.shadowData[i * 2 + 0] = bad; break;
-                case 1: f.shadowData[i * 2 + 1] = (k & 2) ? -bad : bad; break;
-                case 2: f.shadowTranslucency[i * 4 + 1 + k % 3] = bad; break;
-                case 3: f.mv[i * 2 + k % 2] = bad; break;
-                default: f.viewZ[i] = (k & 2) ? 0.0f : bad; break;
+                case 0:
+                    f.shadowData[i * 2 + 0] = bad;
+                    break;
+                case 1:
+                    f.shadowData[i * 2 + 1] = (k & 2) ? -bad : bad;
+                    break;
+                case 2:
+                    f.shadowTranslucency[i * 4 + 1 + k % 3] = bad;
+                    break;
+                case 3:
+                    f.mv[i * 2 + k % 2] = bad;
+                    break;
+                default:
+                    f.viewZ[i] = (k & 2) ? 0.0f : bad;
+                    break;
                 }
             }
             std::vector<float> output = rig.Frame(frame, f);
-            size_t nonFinite = size_t(std::count_if(output.begin(), output.end(), [](float v) { return !std::isfinite(v); }));
+            size_t nonFinite =
+                size_t(std::count_if(output.begin(), output.end(), [](float v) { return !std::isfinite(v); }));
             CHECK(nonFinite == 0);
         }
     }
@@ -602,7 +615,8 @@ TEST_CASE("SIGMA dispatch sequence and pools (golden)", "[api][sigma]")
         CHECK(d.transientPool[0].downsampleX == 16);
         CHECK(d.transientPool[0].downsampleY == 16);
 
-        auto frame = [&](uint32_t frameIndex) {
+        auto frame = [&](uint32_t frameIndex)
+        {
             CommonSettings settings = test::StillCameraSettings(frameIndex);
             REQUIRE(SetCommonSettings(*denoiser, settings) == Result::SUCCESS);
             const DispatchDesc* dispatches = nullptr;
@@ -658,7 +672,8 @@ TEST_CASE("SigmaSettings out of range are rejected with a message", "[api][sigma
     desc.logUserArg = &lastMessage;
     Denoiser* denoiser = nullptr;
     REQUIRE(CreateDenoiser(desc, denoiser) == Result::SUCCESS);
-    auto reject = [&](const SigmaSettings& s, const char* field) {
+    auto reject = [&](const SigmaSettings& s, const char* field)
+    {
         lastMessage.clear();
         CHECK(SetMethodSettings(*denoiser, SIGMA_ID, s) == Result::INVALID_ARGUMENT);
         CHECK(lastMessage.find(field) != std::string::npos);
@@ -724,7 +739,8 @@ TEST_CASE("SIGMA denoises a penumbra on a ground plane seen at a grazing angle",
                     bool isGround = ground(y);
                     float viewZ = isGround ? 1.0f / ndcY : INFINITY;
                     float worldX = ndcX * viewZ;
-                    float truth = isGround ? std::min(std::max((worldX - edge + radius) / (2.0f * radius), 0.0f), 1.0f) : 1.0f;
+                    float truth =
+                        isGround ? std::min(std::max((worldX - edge + radius) / (2.0f * radius), 0.0f), 1.0f) : 1.0f;
                     bool lit = uniform(rng) < truth;
                     f.viewZ[i] = viewZ;
                     f.normal[i * 4 + 0] = 0.5f;
