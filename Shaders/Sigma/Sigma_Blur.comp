@@ -3,7 +3,8 @@
 // 1. Penumbra estimate: occluded pixels know their penumbra radius, lit ones do not. The center's
 //    penumbra is the weighted mean over the occluded pixels of a dense 5x5 window (shared memory),
 //    preferring smaller penumbrae (1 / (1 + radius)) so wide penumbrae do not bleed into narrow ones.
-// 2. Kernel radius = penumbra radius * gBlurRadiusScale (pixels), at most 32.
+// 2. Kernel radius = penumbra radius * gBlurRadiusScale (pixels; SigmaSettings::blurRadiusScale times
+//    the ratio chosen in Source/Sigma.cpp), at most 32.
 // 3. Filter: dense 5x5 around the center plus an 8-tap rotated disk on the tangent plane, Gaussian
 //    falloff, plane-distance and normal weights; sky samples are skipped. The sparse samples also
 //    refine the penumbra estimate, which the next passes reuse.

@@ -20,7 +20,7 @@
 // Largest kernel radius in pixels (blur and classification agree on it).
 #define SIGMA_MAX_PIXEL_RADIUS 32.0
 
-// Pixels a pass reads beyond its kernel radius (dense penumbra window 3, temporal statistics 2).
+// Pixels a pass reads beyond its kernel radius (dense window 2, temporal statistics 2, rounding).
 #define SIGMA_TILE_REACH_MARGIN 5.0
 
 // gIn_Tiles.x values; .y is the largest kernel radius in pixels of the tile's occluded pixels.
