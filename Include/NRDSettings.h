@@ -85,7 +85,8 @@ struct ReferenceSettings
 constexpr uint32_t REFERENCE_MAX_HISTORY_FRAME_NUM = 65535;
 
 // What TILED_SHADOW writes to OUT_SHADOW_TRANSLUCENCY (all channels). Anything but NONE is a
-// debugging view: the filter passes are not dispatched and every pixel is written, sky included.
+// debugging view: every pixel is written, sky included; of the a-trous passes only the first runs
+// (it stores the history), without writing OUT_SHADOW_TRANSLUCENCY.
 enum class TiledShadowDebug : uint8_t
 {
     NONE,              // The denoised visibility.

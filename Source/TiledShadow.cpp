@@ -160,10 +160,10 @@ public:
         c.gMethodFrame = m_MethodFrame;
         context.Dispatch(m_Classify[s.isBitmaskInput ? 1 : 0], c, frame.width, frame.height);
 
-        if (s.debugView != TiledShadowDebug::NONE)
-            return;
-
-        for (uint32_t pass = 0; pass < s.atrousPassNum; pass++)
+        // A debug view keeps the first pass, which stores the history (so that the views show what
+        // a running denoiser sees), without letting it write OUT_SHADOW_TRANSLUCENCY.
+        const bool isDebug = s.debugView != TiledShadowDebug::NONE;
+        for (uint32_t pass = 0; pass < (isDebug ? 1u : s.atrousPassNum); pass++)
         {
             // All three passes share one constant layout.
             passes::TiledShadow_Filter1::Constants f = {};
@@ -171,7 +171,7 @@ public:
             f.gPlaneDistanceScale = 1.44269504f / s.planeDistanceSensitivity;
             f.gNormalPower = s.normalPower;
             f.gIsFirstPass = pass == 0 ? 1u : 0u;
-            f.gIsLastPass = pass + 1 == s.atrousPassNum ? 1u : 0u;
+            f.gIsLastPass = !isDebug && pass + 1 == s.atrousPassNum ? 1u : 0u;
             context.Dispatch(m_Filter[pass], f, frame.width, frame.height);
         }
     }

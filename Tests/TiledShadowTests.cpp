@@ -30,6 +30,9 @@ constexpr float kSentinel = 2.0f; // Written into the output first; the denoiser
 constexpr double kStaticFactor = 15.0;
 constexpr double kMovingCameraFactor = 30.0;
 constexpr double kSlidingEdgeFactor = 7.0;
+constexpr double kSharpStillFactor = 2.0;
+constexpr double kSharpMovingFactor = 1.5;
+constexpr double kSharpHalfPixelFactor = 1.0;
 
 enum TileClass : uint32_t
 {
@@ -594,5 +597,59 @@ TEST_CASE("TILED_SHADOW denoises a noisy penumbra well below the input's error",
     run("moving camera, 2D motion", scene, 1.5f, 0.0f, false, kMovingCameraFactor);
     run("moving camera, 3D motion", scene, 1.5f, 0.0f, true, kMovingCameraFactor);
     run("sliding shadow edge", scene, 0.0f, 0.5f, false, kSlidingEdgeFactor);
+    // A sharp shadow has little noise to remove: no bias may be added, under camera motion too
+    // (half-pixel motion resamples the history the most).
+    EdgeScene hard = scene;
+    hard.penumbraRadius = 0.5f;
+    run("sharp edge, still camera", hard, 0.0f, 0.0f, false, kSharpStillFactor);
+    run("sharp edge, moving camera", hard, 1.3f, 0.0f, false, kSharpMovingFactor);
+    run("sharp edge, camera moving half a pixel", hard, 0.5f, 0.0f, true, kSharpHalfPixelFactor);
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("TILED_SHADOW keeps its history under camera motion and drops it on reset", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+
+    EdgeScene scene;
+    scene.width = scene.height = 96;
+    TiledShadowSettings settings;
+    settings.debugView = TiledShadowDebug::HISTORY_LENGTH;
+    TiledShadowRig rig(*context);
+    rig.Create(scene.width, scene.height, settings);
+    auto meanSamples = [&](bool reset) {
+        std::vector<float> length;
+        for (uint32_t frame = 0; frame < 10; frame++)
+        {
+            scene.cameraShift = 1.3f * float(frame);
+            Inputs in = scene.Make(500 + frame);
+            for (size_t i = 0; i < in.mv.size() / 2; i++)
+                in.mv[i * 2] = 1.3f / float(scene.width);
+            CommonSettings s = CameraSettings(reset ? 0 : frame, scene.CameraX(scene.cameraShift),
+                                              scene.CameraX(scene.cameraShift - 1.3f));
+            length = rig.Frame(s, in);
+        }
+        // Penumbra pixels away from the borders (the left one is revealed every frame).
+        double sum = 0.0;
+        uint32_t num = 0;
+        for (uint32_t y = 16; y < scene.height - 16; y++)
+            for (uint32_t x = 16; x < scene.width - 16; x++)
+            {
+                float t = scene.Truth(x, y);
+                if (t > 0.1f && t < 0.9f)
+                {
+                    sum += length[size_t(y) * scene.width + x] * float(nrd::TILED_SHADOW_MAX_HISTORY_FRAME_NUM);
+                    num++;
+                }
+            }
+        REQUIRE(num > 100);
+        return sum / num;
+    };
+    double moving = meanSamples(false);
+    double restarted = meanSamples(true);
+    std::printf("TILED_SHADOW mean history length after 10 frames: moving camera %.1f, restarting %.1f\n", moving, restarted);
+    CHECK(moving >= 5.0);
+    CHECK(restarted <= 1.0);
     CHECK(context->ValidationMessageCount() == 0);
 }

@@ -37,6 +37,14 @@
 // (fully on 2 standard errors later); the running mean follows with this blend factor.
 #define TS_CHANGE_THRESHOLD 2.0
 #define TS_LOCAL_MEAN_ALPHA 0.1
+// Least blend factor per unit of resampling blur (f.x (1 - f.x) + f.y (1 - f.y), f the fractional
+// position of the history sample): sub-pixel motion resamples the history every frame, which
+// would wash sharp shadows out over a long history.
+#define TS_RESAMPLING_ALPHA 1.0
+// Depth tolerance of the outer ring of the 4x4 history footprint, relative to the inner 2x2's.
+#define TS_OUTER_TOLERANCE 1.5
+// History farther than this from the value of a uniform 5x5 window of bits is dropped.
+#define TS_NEAR_CONTRADICTION 0.25
 // Window radius of the "near" statistics (variance boost, clamp box extension).
 #define TS_BOOST_RADIUS 1
 
@@ -90,6 +98,13 @@ float WeightedRowSum(uint window)
         sum += MomentStep(k) * float(bitCount(window & nested));
     }
     return sum;
+}
+
+// Catmull-Rom weights of the texels at -1, 0, 1, 2 around fraction 't'.
+vec4 _TS_CatmullRomWeights(float t)
+{
+    return vec4(t * (-0.5 + t * (1.0 - 0.5 * t)), 1.0 + t * t * (-2.5 + 1.5 * t), t * (0.5 + t * (2.0 - 1.5 * t)),
+                t * t * (-0.5 + 0.5 * t));
 }
 
 void main()
@@ -233,36 +248,68 @@ void main()
             uvPrev = uv + mv.xy * gMotionVectorScale.xy;
         float viewZPrevExpected = clipPrev.w;
 
-        // The depth tolerance grows where the view grazes the surface (large depth changes per pixel).
-        vec3 V = -normalize(mat3(gViewToWorld) * Xv);
-        float grazing = pow(clamp(1.0 - dot(V, N), 0.0, 1.0), 8.0);
-        float tolerance = mix(gDisocclusionThreshold, gDisocclusionThresholdGrazing, grazing) * viewZPrevExpected;
+        // The depth tolerance grows where the view grazes the surface: by the relative depth change
+        // of the surface's tangent plane per pixel (a taps lies up to 1.5 pixels away), at most
+        // the grazing threshold. A plane n.X = c seen along r(uv) has z = c / n.r, so one pixel
+        // changes z by z * |n.dr| / |n.r|.
+        vec3 Nv = N * mat3(gViewToWorld); // World -> view (transposed rotation).
+        vec3 ray = Xv / viewZ;
+        float slope = (abs(Nv.x) * 2.0 * gFrustum.x * gInvResourceSize.x + abs(Nv.y) * 2.0 * gFrustum.z * gInvResourceSize.y) /
+                      max(abs(dot(Nv, ray)), 1e-6);
+        float tolerance = min(gDisocclusionThreshold + 1.5 * slope, gDisocclusionThresholdGrazing) * viewZPrevExpected;
 
-        // Bilinear footprint from two gathers (viewZ + previous local mean, packed history), taps
-        // behind a depth discontinuity or outside the image dropped.
+        // History: Catmull-Rom over the 4x4 texels around the reprojected position where all of them
+        // hold the same surface (repeated bilinear resampling would blur sharp shadows by pixels
+        // under camera motion), else bilinear without the taps behind a depth discontinuity or
+        // outside the image. Eight gathers: viewZ (+ previous local mean) and packed history.
         vec4 history = vec4(0.0); // History, temporal mean, samples, previous local mean.
         float footprint = 0.0;
+        float resampling = 0.0; // Blur of the resampling: 0 at texel centres, 0.5 halfway on both axes.
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
         {
             vec2 position = uvPrev * vec2(gResourceSize) - 0.5;
             ivec2 origin = ivec2(floor(position));
             vec2 f = position - vec2(origin);
-            vec2 gatherUv = (vec2(origin) + 1.0) * gInvResourceSize;
-            uvec4 viewZs = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 0);
-            uvec4 histories = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 1);
-            // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from 'origin'.
+            resampling = f.x * (1.0 - f.x) + f.y * (1.0 - f.y);
+            vec4 wx = _TS_CatmullRomWeights(f.x), wy = _TS_CatmullRomWeights(f.y);
+            vec4 cubic = vec4(0.0), bilinear = vec4(0.0);
+            bool isCubicValid = true;
+            // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from the block's first texel.
             const ivec2 offsets[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
-            vec4 weights = vec4((1.0 - f.x) * f.y, f.x * f.y, f.x * (1.0 - f.y), (1.0 - f.x) * (1.0 - f.y));
-            for (int i = 0; i < 4; i++)
+            for (int block = 0; block < 4; block++)
             {
-                float viewZPrev = _TS_UnpackViewZ(viewZs[i]);
-                bool isValid = all(lessThan(uvec2(origin + offsets[i]), gResourceSize)) && !_NRD_IsSky(viewZPrev) &&
-                               abs(viewZPrev - viewZPrevExpected) < tolerance;
-                float w = isValid ? weights[i] : 0.0;
-                history += w * vec4(_TS_UnpackHistory(histories[i]), _TS_UnpackLocalMean(viewZs[i]));
-                footprint += w;
+                ivec2 blockOrigin = origin + ivec2((block & 1) * 2 - 1, (block >> 1) * 2 - 1);
+                vec2 gatherUv = (vec2(blockOrigin) + 1.0) * gInvResourceSize;
+                uvec4 viewZs = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 0);
+                uvec4 histories = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 1);
+                for (int i = 0; i < 4; i++)
+                {
+                    ivec2 texel = blockOrigin + offsets[i];
+                    ivec2 k = texel - origin + 1; // 0..3 in the 4x4 footprint.
+                    float viewZPrev = _TS_UnpackViewZ(viewZs[i]);
+                    // The outer ring lies up to 2 pixels further: a slanted surface changes depth there.
+                    bool isInner = k.x >= 1 && k.x <= 2 && k.y >= 1 && k.y <= 2;
+                    bool isValid = all(lessThan(uvec2(texel), gResourceSize)) && !_NRD_IsSky(viewZPrev) &&
+                                   abs(viewZPrev - viewZPrevExpected) < tolerance * (isInner ? 1.0 : TS_OUTER_TOLERANCE);
+                    vec4 value = vec4(_TS_UnpackHistory(histories[i]), _TS_UnpackLocalMean(viewZs[i]));
+                    cubic += wx[k.x] * wy[k.y] * value;
+                    isCubicValid = isCubicValid && isValid;
+                    if (isValid && isInner)
+                    {
+                        float w = (k.x == 1 ? 1.0 - f.x : f.x) * (k.y == 1 ? 1.0 - f.y : f.y);
+                        bilinear += w * value;
+                        footprint += w;
+                    }
+                }
             }
+            if (isCubicValid)
+            {
+                history = clamp(cubic, vec4(0.0), vec4(1.0, 1.0, TS_MAX_HISTORY, 1.0));
+                footprint = 1.0;
+            }
+            else
+                history = bilinear;
         }
         bool isDisoccluded = footprint < 0.01;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
@@ -304,8 +351,24 @@ void main()
         if (samples < 16.0)
             variance = max(variance, nearMean * (1.0 - nearMean)) * max(16.0 - samples, 1.0);
 
-        // Blend toward the current sample by history length.
-        float alpha = mix(0.05, 1.0, sqrt(max(8.0 - samples, 0.0) / 8.0));
+        // Blend toward the current sample by history length, and by how much the resampling blurred
+        // the history: repeated every frame of sub-pixel motion, it would wash out sharp shadows.
+        float alpha = max(mix(0.05, 1.0, sqrt(max(8.0 - samples, 0.0) / 8.0)), TS_RESAMPLING_ALPHA * resampling);
+        // Under motion a pixel whose 5x5 bits all agree takes its sample: inside a sharp shadow (or
+        // light) the sample is exact, and the resampled history is not.
+        uint agree = 0u, any = 0u;
+        for (int dy = -2; dy <= 2; dy++)
+        {
+            uint bits = (RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 2)) & 0x1Fu;
+            agree |= bits ^ (sample0 != 0.0 ? 0x1Fu : 0u);
+        }
+        // Also where the history contradicts such a uniform 5x5 window (a surface revealed next to
+        // another one at the same depth, e.g. the two faces of a corner): it is someone else's.
+        if (agree == 0u && (resampling > 0.02 || abs(history.x - sample0) > TS_NEAR_CONTRADICTION))
+        {
+            alpha = 1.0;
+            samples = min(samples, 1.0);
+        }
         result = mix(clamped, sample0, alpha);
     }
 
