@@ -2,7 +2,9 @@
 //
 // Per frame, for a W x H input:
 //   1. Classify tiles      16x16 tiles: uniform (copy), mixed (denoise) or sky (skip), plus the
-//                          largest kernel radius; later passes dilate the map by that reach.
+//                          largest kernel radius.
+//      Smooth tiles        one thread per tile: the map dilated by that reach, the per-tile mode
+//                          (sky / copy / denoise) the next passes read.
 //   2. Blur                penumbra estimate (dense 5x5 of occluded neighbours), dense 5x5 + 8-tap
 //                          rotated disk on the tangent plane, radius from the penumbra.
 //   3. Post-blur           half radius, independently rotated, 3x3 + 8 taps.
@@ -32,6 +34,7 @@ NRD_PASS_TYPES
 #include "../Shaders/Sigma/Sigma_PostBlur.resources.h"
 #include "../Shaders/Sigma/Sigma_TemporalStabilization.resources.h"
 #undef SIGMA_TRANSLUCENCY
+#include "../Shaders/Sigma/Sigma_SmoothTiles.resources.h" // One pipeline for both methods.
 } // namespace passes
 
 namespace
@@ -51,6 +54,7 @@ struct ShadowPasses
     typedef passes::Sigma_Shadow_TemporalStabilization TemporalStabilization;
     static constexpr Format kSignalFormat = Format::R16_SFLOAT;
     static constexpr const char* kClassifyName = "SIGMA_SHADOW - Classify tiles";
+    static constexpr const char* kSmoothName = "SIGMA_SHADOW - Smooth tiles";
     static constexpr const char* kBlurName = "SIGMA_SHADOW - Blur";
     static constexpr const char* kPostBlurName = "SIGMA_SHADOW - Post-blur";
     static constexpr const char* kTemporalName = "SIGMA_SHADOW - Temporal stabilization";
@@ -64,6 +68,7 @@ struct ShadowTranslucencyPasses
     typedef passes::Sigma_ShadowTranslucency_TemporalStabilization TemporalStabilization;
     static constexpr Format kSignalFormat = Format::RGBA16_SFLOAT;
     static constexpr const char* kClassifyName = "SIGMA_SHADOW_TRANSLUCENCY - Classify tiles";
+    static constexpr const char* kSmoothName = "SIGMA_SHADOW_TRANSLUCENCY - Smooth tiles";
     static constexpr const char* kBlurName = "SIGMA_SHADOW_TRANSLUCENCY - Blur";
     static constexpr const char* kPostBlurName = "SIGMA_SHADOW_TRANSLUCENCY - Post-blur";
     static constexpr const char* kTemporalName = "SIGMA_SHADOW_TRANSLUCENCY - Temporal stabilization";
@@ -126,6 +131,7 @@ public:
             historyViewZ[i] = builder.AddPermanentTexture(Format::R32_UINT); // viewZ bits | history length
         }
         const ResourceRef tiles = builder.AddTransientTexture(Format::RG16_SFLOAT, 16, 16);
+        const ResourceRef tileModes = builder.AddTransientTexture(Format::R8_UNORM, 16, 16);
         const ResourceRef penumbra = builder.AddTransientTexture(Format::R16_SFLOAT);
         const ResourceRef blurred = builder.AddTransientTexture(P::kSignalFormat);
         const ResourceRef postBlurred = builder.AddTransientTexture(P::kSignalFormat);
@@ -136,24 +142,25 @@ public:
             m_Classify = builder.AddDispatch<typename P::ClassifyTiles>(P::kClassifyName,
                                                                         {viewZ, shadowData, translucency, tiles});
             m_Blur = builder.AddDispatch<typename P::Blur>(
-                P::kBlurName, {normal, viewZ, shadowData, tiles, translucency, blurred, penumbra});
+                P::kBlurName, {normal, viewZ, shadowData, tileModes, translucency, blurred, penumbra});
         }
         else
         {
             m_Classify = builder.AddDispatch<typename P::ClassifyTiles>(P::kClassifyName, {viewZ, shadowData, tiles});
             m_Blur = builder.AddDispatch<typename P::Blur>(P::kBlurName,
-                                                           {normal, viewZ, shadowData, tiles, blurred, penumbra});
+                                                           {normal, viewZ, shadowData, tileModes, blurred, penumbra});
         }
-        m_PostBlur = builder.AddDispatch<typename P::PostBlur>(P::kPostBlurName,
-                                                               {normal, viewZ, blurred, penumbra, tiles, postBlurred});
+        m_Smooth = builder.AddDispatch<passes::Sigma_SmoothTiles>(P::kSmoothName, {tiles, tileModes});
+        m_PostBlur = builder.AddDispatch<typename P::PostBlur>(
+            P::kPostBlurName, {normal, viewZ, blurred, penumbra, tileModes, postBlurred});
         m_PostBlurToOutput = builder.AddDispatch<typename P::PostBlur>(
-            P::kPostBlurName, {normal, viewZ, blurred, penumbra, tiles, output});
+            P::kPostBlurName, {normal, viewZ, blurred, penumbra, tileModes, output});
         for (int i = 0; i < 2; i++)
         {
             // Frame parity i reads history[1 - i] and writes history[i].
             m_Temporal[i] = builder.AddDispatch<typename P::TemporalStabilization>(
-                P::kTemporalName, {normal, viewZ, mv, postBlurred, penumbra, tiles, history[1 - i], historyViewZ[1 - i],
-                                   output, history[i], historyViewZ[i]});
+                P::kTemporalName, {normal, viewZ, mv, postBlurred, penumbra, tileModes, history[1 - i],
+                                   historyViewZ[1 - i], output, history[i], historyViewZ[i]});
         }
     }
 
@@ -189,6 +196,8 @@ public:
 
         // One constant block serves all passes (same layout, checked above).
         context.Dispatch(m_Classify, Cast<typename P::ClassifyTiles::Constants>(c), frame.width, frame.height);
+        context.Dispatch(m_Smooth, Cast<passes::Sigma_SmoothTiles::Constants>(c), DivideUp(frame.width, 16),
+                         DivideUp(frame.height, 16));
         context.Dispatch(m_Blur, c, frame.width, frame.height);
         context.Dispatch(isStabilized ? m_PostBlur : m_PostBlurToOutput, Cast<typename P::PostBlur::Constants>(c),
                          frame.width, frame.height);
@@ -225,6 +234,7 @@ private:
 
     SigmaSettings m_Settings = {};
     uint32_t m_Classify = 0;
+    uint32_t m_Smooth = 0;
     uint32_t m_Blur = 0;
     uint32_t m_PostBlur = 0;
     uint32_t m_PostBlurToOutput = 0;

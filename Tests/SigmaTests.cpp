@@ -603,17 +603,19 @@ TEST_CASE("SIGMA dispatch sequence and pools (golden)", "[api][sigma]")
         REQUIRE(CreateDenoiser(desc, denoiser) == Result::SUCCESS);
 
         const DenoiserDesc& d = GetDenoiserDesc(*denoiser);
-        CHECK(d.pipelinesNum == 4);
+        CHECK(d.pipelinesNum == 5);
         const Format signal = method == Method::SIGMA_SHADOW ? Format::R16_SFLOAT : Format::RGBA16_SFLOAT;
         REQUIRE(d.permanentPoolSize == 4); // History and viewZ + history length, ping-pong.
         CHECK(d.permanentPool[0].format == signal);
         CHECK(d.permanentPool[1].format == Format::R32_UINT);
         CHECK(d.permanentPool[2].format == signal);
         CHECK(d.permanentPool[3].format == Format::R32_UINT);
-        REQUIRE(d.transientPoolSize == 4); // Tiles, penumbra, blurred, post-blurred.
+        REQUIRE(d.transientPoolSize == 5); // Tiles, tile modes, penumbra, blurred, post-blurred.
         CHECK(d.transientPool[0].format == Format::RG16_SFLOAT);
         CHECK(d.transientPool[0].downsampleX == 16);
         CHECK(d.transientPool[0].downsampleY == 16);
+        CHECK(d.transientPool[1].format == Format::R8_UNORM);
+        CHECK(d.transientPool[1].downsampleX == 16);
 
         auto frame = [&](uint32_t frameIndex)
         {
@@ -630,16 +632,19 @@ TEST_CASE("SIGMA dispatch sequence and pools (golden)", "[api][sigma]")
         for (uint32_t f = 0; f < 2; f++)
         {
             auto list = frame(f);
-            REQUIRE(list.size() == 4);
+            REQUIRE(list.size() == 5);
             CHECK(list[0]->name == prefix + " - Classify tiles");
-            CHECK(list[1]->name == prefix + " - Blur");
-            CHECK(list[2]->name == prefix + " - Post-blur");
-            CHECK(list[3]->name == prefix + " - Temporal stabilization");
+            CHECK(list[1]->name == prefix + " - Smooth tiles");
+            CHECK(list[2]->name == prefix + " - Blur");
+            CHECK(list[3]->name == prefix + " - Post-blur");
+            CHECK(list[4]->name == prefix + " - Temporal stabilization");
             CHECK(list[0]->gridWidth == 120); // One 16x16 group per tile.
             CHECK(list[0]->gridHeight == 68);
+            CHECK(list[1]->gridWidth == 15); // One thread per tile, 8x8 groups.
+            CHECK(list[1]->gridHeight == 9);
             // History ping-pong: frame parity f writes permanent textures 2f, 2f + 1 (bindings 9, 10)
             // and reads the other pair (bindings 6, 7).
-            const DispatchDesc& temporal = *list[3];
+            const DispatchDesc& temporal = *list[4];
             REQUIRE(temporal.resourcesNum == 11);
             CHECK(temporal.resources[6].type == ResourceType::PERMANENT_POOL);
             CHECK(temporal.resources[6].indexInPool == 2 * (1 - f));
@@ -653,8 +658,8 @@ TEST_CASE("SIGMA dispatch sequence and pools (golden)", "[api][sigma]")
         settings.maxStabilizedFrameNum = 0;
         REQUIRE(SetMethodSettings(*denoiser, SIGMA_ID, settings) == Result::SUCCESS);
         auto list = frame(2);
-        REQUIRE(list.size() == 3); // No history: the post-blur writes the output.
-        CHECK(list[2]->resources[5].type == ResourceType::OUT_SHADOW_TRANSLUCENCY);
+        REQUIRE(list.size() == 4); // No history: the post-blur writes the output.
+        CHECK(list[3]->resources[5].type == ResourceType::OUT_SHADOW_TRANSLUCENCY);
         DestroyDenoiser(denoiser);
     }
 }

@@ -56,7 +56,7 @@ void Preload(ivec2 smemPos, ivec2 pixel)
 
 void main()
 {
-    uint mode = _Sigma_GroupTileMode(gIn_Tiles);
+    uint mode = _Sigma_GroupTileMode(gIn_TileModes);
     if (mode == SIGMA_MODE_SKY)
         return;
 

@@ -13,7 +13,7 @@ NRD_CONSTANTS_END
 NRD_INPUT(0, gIn_NormalRoughness)
 NRD_INPUT(1, gIn_ViewZ)
 NRD_INPUT(2, gIn_ShadowData)
-NRD_INPUT(3, gIn_Tiles)
+NRD_INPUT(3, gIn_TileModes)
 #if SIGMA_TRANSLUCENCY
 NRD_INPUT(4, gIn_ShadowTranslucency)
 NRD_INOUT(5, gOut_Shadow, rgba16f)

@@ -62,46 +62,14 @@ float _Sigma_KernelRadius(float penumbraPixels) { return min(penumbraPixels * gB
 // Tiles.
 //==================================================================================================
 
-shared uint s_SigmaTileFlags;
+// Tile modes are stored in an R8 texture (Sigma_SmoothTiles) as mode / 2.
+float _Sigma_EncodeTileMode(uint mode) { return float(mode) * 0.5; }
 
-// Decides what this 16x16 workgroup does from the 5x5 tiles around it: it denoises if a mixed tile
-// lies within the kernel reach of its pixels (the tile map dilated by the radius, at most 2 tiles),
-// copies if only uniform tiles are in reach, and skips sky-only tiles. Contains barriers: call it
-// from uniform control flow, before any early return.
-uint _Sigma_GroupTileMode(texture2D tiles)
+// What this 16x16 workgroup does: one fetch, the same for every invocation of the group.
+uint _Sigma_GroupTileMode(texture2D tileModes)
 {
-    uint localIndex = gl_LocalInvocationIndex;
-    if (localIndex == 0u)
-        s_SigmaTileFlags = 0u;
-    barrier();
-
-    if (localIndex < 25u)
-    {
-        ivec2 self = ivec2(gl_WorkGroupID.xy);
-        ivec2 offset = ivec2(int(localIndex % 5u), int(localIndex / 5u)) - 2;
-        ivec2 other = self + offset;
-        ivec2 tilesNum = ivec2((gResourceSize + uvec2(SIGMA_TILE_SIZE - 1)) / uvec2(SIGMA_TILE_SIZE));
-        if (all(greaterThanEqual(other, ivec2(0))) && all(lessThan(other, tilesNum)))
-        {
-            vec2 selfTile = texelFetch(sampler2D(tiles, gNearestClamp), self, 0).xy;
-            vec2 otherTile = texelFetch(sampler2D(tiles, gNearestClamp), other, 0).xy;
-            int distance = max(abs(offset.x), abs(offset.y));
-            // Pixels between the two tiles, and how far kernels of either tile can read.
-            float gap = float((distance - 1) * SIGMA_TILE_SIZE + 1);
-            float reach = max(_NRD_Sanitize(selfTile.y, SIGMA_MAX_PIXEL_RADIUS), _NRD_Sanitize(otherTile.y, SIGMA_MAX_PIXEL_RADIUS)) +
-                          SIGMA_TILE_REACH_MARGIN;
-            if (otherTile.x == SIGMA_TILE_MIXED && (distance <= 1 || reach >= gap))
-                atomicOr(s_SigmaTileFlags, 1u);
-            if (distance == 0 && selfTile.x != SIGMA_TILE_SKY)
-                atomicOr(s_SigmaTileFlags, 2u);
-        }
-    }
-    barrier();
-
-    uint flags = s_SigmaTileFlags;
-    if ((flags & 2u) == 0u)
-        return SIGMA_MODE_SKY;
-    return (flags & 1u) != 0u ? SIGMA_MODE_DENOISE : SIGMA_MODE_COPY;
+    float encoded = texelFetch(sampler2D(tileModes, gNearestClamp), ivec2(gl_WorkGroupID.xy), 0).x;
+    return uint(encoded * 2.0 + 0.5);
 }
 
 //==================================================================================================

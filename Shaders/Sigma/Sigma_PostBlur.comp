@@ -21,28 +21,9 @@ SIGMA_TYPE LoadBlurred(ivec2 pixel)
 #endif
 }
 
-void main()
+// The filter proper (mode DENOISE, radius >= 0.5 px).
+SIGMA_TYPE Filter(ivec2 pixel, float viewZ, SIGMA_TYPE center, float radius)
 {
-    uint mode = _Sigma_GroupTileMode(gIn_Tiles);
-    if (mode == SIGMA_MODE_SKY)
-        return;
-
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(uvec2(pixel), gResourceSize)))
-        return;
-    float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
-    if (_NRD_IsSky(viewZ))
-        return; // Sky: not written.
-
-    SIGMA_TYPE center = LoadBlurred(pixel);
-    float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
-    float radius = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0)) * RADIUS_SCALE;
-    if (mode == SIGMA_MODE_COPY || radius < 0.5)
-    {
-        imageStore(gOut_Shadow, pixel, vec4(center));
-        return;
-    }
-
     vec2 uv = _NRD_PixelUv(pixel);
     vec3 Xv = _NRD_ViewPosition(uv, viewZ);
     vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
@@ -87,5 +68,28 @@ void main()
         weightSum += w;
     }
 
-    imageStore(gOut_Shadow, pixel, vec4(sum / weightSum));
+    return sum / weightSum;
+}
+
+void main()
+{
+    uint mode = _Sigma_GroupTileMode(gIn_TileModes);
+    if (mode == SIGMA_MODE_SKY)
+        return;
+
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), gResourceSize)))
+        return;
+    float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
+    if (_NRD_IsSky(viewZ))
+        return; // Sky: not written.
+
+    SIGMA_TYPE center = LoadBlurred(pixel);
+    float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
+    float radius = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0)) * RADIUS_SCALE;
+
+    SIGMA_TYPE result = center;
+    if (mode == SIGMA_MODE_DENOISE && radius >= 0.5)
+        result = Filter(pixel, viewZ, center, radius);
+    imageStore(gOut_Shadow, pixel, vec4(result));
 }

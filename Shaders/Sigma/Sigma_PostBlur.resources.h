@@ -15,6 +15,6 @@ NRD_INPUT(0, gIn_NormalRoughness)
 NRD_INPUT(1, gIn_ViewZ)
 NRD_INPUT(2, gIn_Shadow)
 NRD_INPUT(3, gIn_Penumbra)
-NRD_INPUT(4, gIn_Tiles)
+NRD_INPUT(4, gIn_TileModes)
 NRD_OUTPUT(5, gOut_Shadow)
 NRD_PASS_END

@@ -95,7 +95,7 @@ void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLengt
 
 void main()
 {
-    uint mode = _Sigma_GroupTileMode(gIn_Tiles);
+    uint mode = _Sigma_GroupTileMode(gIn_TileModes);
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     bool isInside = all(lessThan(uvec2(pixel), gResourceSize));
 
