@@ -120,12 +120,16 @@ struct TiledShadowSettings
     // 17x17 kernel of the document. Weights exp(-3 i^2 / (radius + 1)^2) along each axis.
     uint32_t neighborhoodRadius = 8;
 
-    // History clamp: the reprojected history is clamped to mean +- historyClampSigma * sigma of the
-    // local neighbourhood, (0, 8].
+    // History clamp: where the local neighbourhood changed (its mean moved beyond 2 standard errors
+    // from its running mean at the same surface point: a moving shadow), the reprojected history is
+    // clamped to mean +- historyClampSigma * sigma of the neighbourhood, (0, 8]. A still
+    // neighbourhood keeps its history unclamped (next to a sharp shadow edge the box would exclude
+    // the pixel's own value).
     float historyClampSigma = 0.5f;
 
-    // Disocclusion: relative depth tolerance at grazing angles, [CommonSettings::disocclusionThreshold,
-    // 1]. The tolerance is lerp(disocclusionThreshold, this, (1 - V.N)^8).
+    // Disocclusion: largest relative depth tolerance, reached at grazing angles, (0, 1]. The
+    // tolerance is CommonSettings::disocclusionThreshold plus the relative depth change of the
+    // surface's tangent plane over 1.5 pixels, at most this.
     float disocclusionThresholdGrazing = 0.1f;
 
     // A-trous edge stopping: distance of a sample to the centre's tangent plane, relative to viewZ,
@@ -139,8 +143,9 @@ struct TiledShadowSettings
     uint32_t atrousPassNum = 3;
 
     // Longest history in frames, [1, TILED_SHADOW_MAX_HISTORY_FRAME_NUM]. The blend toward the
-    // current frame is lerp(0.05, 1, sqrt(max(8 - n, 0) / 8)) for n accumulated frames, and the
-    // variance is boosted while n < 16, so values below 16 keep the spatial filter stronger.
+    // current frame is lerp(0.05, 1, sqrt(max(8 - n, 0) / 8)) for n accumulated frames (more under
+    // sub-pixel camera motion, which resamples the history), and the variance is boosted while
+    // n < 16, so values below 16 keep the spatial filter stronger.
     uint32_t maxHistoryFrameNum = 32;
 
     TiledShadowDebug debugView = TiledShadowDebug::NONE;
