@@ -187,7 +187,7 @@ struct Case
 struct MethodTraits
 {
     uint32_t recoveryFrames = 32;
-    uint32_t smallImageRecoveryFrames = 0; // If not 0: images with a side under 5 pixels.
+    uint32_t smallImageRecoveryFrames = 0; // If not 0: images with a side under 8 pixels.
     bool recoversByRestart = false;
     SettingsCall applyDefaults;                      // Default settings of the method.
     std::vector<SettingsCall> discoveryVariants;     // Settings that change which inputs are read.
@@ -273,7 +273,9 @@ MethodTraits TraitsOf(Method method)
     case Method::TILED_SHADOW:
     {
         typedef TiledShadowSettings S;
-        t.recoveryFrames = 24;
+        // History that the neighbourhood clamp keeps (a penumbra) blends out at 5% per frame.
+        t.recoveryFrames = 40;
+        t.smallImageRecoveryFrames = 56;
         t.applyDefaults = Apply(S{});
         t.discoveryVariants = {Edited<S>([](S& s) { s.isBitmaskInput = true; })};
         t.settingsCases = {
@@ -1047,7 +1049,7 @@ const std::vector<double>& Baseline(Rig& rig, Method method, const FrameRecord& 
 
 uint32_t RecoveryFrames(const MethodTraits& traits, const Case& c)
 {
-    bool small = c.width < 5 || c.height < 5;
+    bool small = c.width < 8 || c.height < 8;
     return small && traits.smallImageRecoveryFrames ? traits.smallImageRecoveryFrames : traits.recoveryFrames;
 }
 
