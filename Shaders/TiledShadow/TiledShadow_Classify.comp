@@ -314,11 +314,6 @@ void main()
         bool isDisoccluded = footprint < 0.01;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
 
-        // 3. Reprojection: running moments of the raw samples, variance of a 0/1 sample from the mean.
-        samples = min(history.z + 1.0, gMaxHistoryFrameNum);
-        temporalMean = history.y + (sample0 - history.y) / samples;
-        variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) * samples / (samples - 1.0) : 0.0;
-
         // History clamped to the neighbourhood (moving shadows have no motion vectors), where the
         // neighbourhood changed: its mean against its running mean at the same surface point, in
         // standard errors. A still neighbourhood keeps its history unclamped: next to a sharp
@@ -338,12 +333,20 @@ void main()
         float nearMean = float(count) / float((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
         float boxMin = min(localMean - halfWidth, nearMean), boxMax = max(localMean + halfWidth, nearMean);
         float clamped = clamp(history.x, boxMin, boxMax);
-        previousLocalMean = mix(history.w, localMean, TS_LOCAL_MEAN_ALPHA);
+        // The running mean follows faster after a large change (a light switched, the signal back).
+        previousLocalMean = mix(history.w, localMean, mix(TS_LOCAL_MEAN_ALPHA, 0.5, clampAmount));
 
         // History outside the clamp box (a moving shadow) counts as fewer samples: the distance in
         // standard errors of the local mean, so that noise alone rarely shortens the history.
         float outside = abs(history.x - clamped) / max(gLocalMeanNoise * sqrt(localVariance), 0.002);
-        samples *= exp(-TS_HISTORY_REJECTION * outside * outside);
+        float previousSamples = history.z * exp(-TS_HISTORY_REJECTION * outside * outside);
+
+        // 3. Reprojection: running moments of the raw samples (their mean clamped like the history
+        // where the neighbourhood changed), variance of a 0/1 sample from the mean.
+        float previousMean = clampAmount > 0.0 ? clamp(history.y, boxMin, boxMax) : history.y;
+        samples = min(previousSamples + 1.0, gMaxHistoryFrameNum);
+        temporalMean = previousMean + (sample0 - previousMean) / samples;
+        variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) * samples / (samples - 1.0) : 0.0;
 
         // Variance boost while few samples are known: a stronger spatial filter. The spatial variance
         // is the bits' in the 3x3 window: the 17x17 one is large next to a sharp edge, which would
@@ -353,10 +356,12 @@ void main()
 
         // Blend toward the current sample by history length, and by how much the resampling blurred
         // the history: repeated every frame of sub-pixel motion, it would wash out sharp shadows.
-        float alpha = max(mix(0.05, 1.0, sqrt(max(8.0 - samples, 0.0) / 8.0)), TS_RESAMPLING_ALPHA * resampling);
+        // (At least 1 / n: a plain running mean until the floor of 0.05 is reached at n = 20.)
+        float alpha = max(max(mix(0.05, 1.0, sqrt(max(8.0 - samples, 0.0) / 8.0)), 1.0 / max(samples, 1.0)),
+                          TS_RESAMPLING_ALPHA * resampling);
         // Under motion a pixel whose 5x5 bits all agree takes its sample: inside a sharp shadow (or
         // light) the sample is exact, and the resampled history is not.
-        uint agree = 0u, any = 0u;
+        uint agree = 0u;
         for (int dy = -2; dy <= 2; dy++)
         {
             uint bits = (RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 2)) & 0x1Fu;
