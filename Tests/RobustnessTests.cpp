@@ -53,6 +53,10 @@ constexpr uint32_t kBaselineFrames = 24; // At least; longer when a case needs i
 constexpr double kRecoveryFactor = 1.5;
 constexpr double kRecoveryTolerance = 2e-3; // Absolute, for errors close to zero.
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
+// Poison of transient textures between frames: quiet NaNs with payloads no arithmetic produces.
+constexpr uint32_t kPoison32 = 0x7fc0beefu;
+constexpr uint16_t kPoison16 = 0x7e5au;
+constexpr uint32_t kPoison16AsFloat = 0x7f800000u | (uint32_t(kPoison16 & 0x3ffu) << 13); // As read back.
 const float kInf = std::numeric_limits<float>::infinity();
 
 uint32_t Hash(uint32_t x)
@@ -762,6 +766,7 @@ public:
         test::Bindings bindings;
         for (auto& texture : m_Textures)
             bindings.push_back({texture.first, &texture.second});
+        PoisonTransients();
         REQUIRE(test::DenoiseAndWait(m_Context, m_Integration, bindings) == VK_SUCCESS);
 
         record.width = f.width;
@@ -887,8 +892,73 @@ private:
         device.DestroyBuffer(staging);
     }
 
-    // Every float pool texture written so far: no NaN / Inf. Read back, then returned to the state
-    // the Integration tracks (its next barriers start from there).
+    // Transient textures hold nothing between frames (an engine aliases them with its own data): fill
+    // the float ones with a NaN of a recognizable payload before each frame. A method that reads a
+    // transient pixel it did not write this frame then shows NaN in an output or the history.
+    void PoisonTransients()
+    {
+        const DenoiserDesc& desc = m_Integration.GetDenoiserDesc();
+        rhi::Device& device = m_Device();
+        std::vector<Integration::PoolImage> images;
+        uint64_t bytes = 0;
+        for (uint32_t i = 0; i < desc.transientPoolSize; i++)
+        {
+            Integration::PoolImage image = m_Integration.GetPoolImage(ResourceType::TRANSIENT_POOL, i);
+            rhi::Format format = rhi::FromVkFormat(image.format);
+            if (image.layout == VK_IMAGE_LAYOUT_UNDEFINED || !IsFloatFormat(format) || format == rhi::Format::R11_G11_B10_UFLOAT)
+                continue;
+            images.push_back(image);
+            bytes = std::max<uint64_t>(bytes, uint64_t(image.width) * image.height * rhi::GetFormatBytesPerPixel(format));
+        }
+        if (images.empty())
+            return;
+        bytes = (bytes + 15) / 16 * 16; // The fp16 half starts at a multiple of every texel size.
+
+        // One staging buffer: fp32 poison words, then fp16 poison halves.
+        rhi::BufferDesc stagingDesc = {};
+        stagingDesc.size = bytes * 2;
+        stagingDesc.usage = rhi::BUFFER_USAGE_COPY_SOURCE;
+        stagingDesc.location = rhi::MemoryLocation::HOST_UPLOAD;
+        rhi::Buffer* staging = nullptr;
+        REQUIRE(device.CreateBuffer(stagingDesc, staging) == rhi::Result::SUCCESS);
+        uint8_t* mapped = static_cast<uint8_t*>(device.MapBuffer(*staging));
+        for (uint64_t i = 0; i < bytes; i += 4)
+            std::memcpy(mapped + i, &kPoison32, 4);
+        for (uint64_t i = 0; i < bytes; i += 2)
+            std::memcpy(mapped + bytes + i, &kPoison16, 2);
+
+        VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+        REQUIRE(m_Context.BeginCommands(commandBuffer) == VK_SUCCESS);
+        rhi::CommandBuffer& cmd = rhi::GetCommandBuffer(commandBuffer);
+        rhi::TextureState copyState = {rhi::ACCESS_COPY_DESTINATION, rhi::Layout::COPY_DESTINATION};
+        for (const Integration::PoolImage& image : images)
+        {
+            // WAR / WAW against the last Denoise; afterwards back to the state the Integration tracks
+            // (RAW for the next Denoise).
+            rhi::TextureBarrier toCopy = {image.texture, image.state, copyState};
+            device.CmdBarrier(cmd, {nullptr, 0, nullptr, 0, &toCopy, 1});
+            bool half = rhi::GetFormatInfo(rhi::FromVkFormat(image.format)).bytesPerPixel ==
+                        2 * rhi::GetFormatInfo(rhi::FromVkFormat(image.format)).channelNum;
+            device.CmdCopyBufferToTexture(cmd, *image.texture, *staging, half ? bytes : 0);
+            rhi::TextureBarrier back = {image.texture, copyState, image.state};
+            device.CmdBarrier(cmd, {nullptr, 0, nullptr, 0, &back, 1});
+        }
+        REQUIRE(m_Context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
+        device.DestroyBuffer(staging);
+    }
+
+    static bool IsPoison(float value)
+    {
+        uint32_t bits;
+        std::memcpy(&bits, &value, 4);
+        return bits == kPoison32 || bits == kPoison16AsFloat;
+    }
+
+    rhi::Device& m_Device() { return m_Context.GetDevice(); }
+
+    // Every float pool texture: no NaN / Inf (transient ones: but the poison of pixels no pass
+    // wrote this frame). Read back, then returned to the state the Integration tracks (its next
+    // barriers start from there).
     void CheckPools()
     {
         const DenoiserDesc& desc = m_Integration.GetDenoiserDesc();
@@ -916,6 +986,9 @@ private:
                 view.state = image.state;
                 std::vector<float> pixels;
                 REQUIRE(m_Context.ReadbackTexture(view, pixels) == VK_SUCCESS);
+                if (pool == ResourceType::TRANSIENT_POOL)
+                    for (float& value : pixels)
+                        value = IsPoison(value) ? 0.0f : value;
                 INFO(GetResourceTypeString(pool) << " " << i << " (" << rhi::GetFormatInfo(format).name << ", "
                                                   << image.width << "x" << image.height << "): "
                                                   << FirstNonFinite(pixels, image.width, rhi::GetFormatInfo(format).channelNum));
