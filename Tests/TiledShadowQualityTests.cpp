@@ -69,7 +69,7 @@ TEST_CASE("TILED_SHADOW meets the quality bar on still scenes", "[quality]")
 
 TEST_CASE("TILED_SHADOW keeps its measured quality on moving scenes", "[quality]")
 {
-    // Measured on lavapipe when written: moving_occluder 2.5x, light_switch 4.9x (lag 16 frames),
+    // Measured on lavapipe when written: moving_occluder 2.5x, light_switch 6.9x (lag 14 frames),
     // camera_translation 0.6x. Floors sit below those; the bar is 3x and a lag of 6 frames.
     struct Floor
     {
@@ -77,7 +77,7 @@ TEST_CASE("TILED_SHADOW keeps its measured quality on moving scenes", "[quality]
         double relmseRatio;
         int32_t lag;
     };
-    for (Floor f : {Floor{"moving_occluder", 2.0, 0}, Floor{"light_switch", 3.5, 20}, Floor{"camera_translation", 0.4, 0}})
+    for (Floor f : {Floor{"moving_occluder", 2.0, 0}, Floor{"light_switch", 5.0, 18}, Floor{"camera_translation", 0.4, 0}})
     {
         INFO(f.scene);
         Measured m = Run(f.scene);

@@ -273,7 +273,8 @@ void main()
             vec2 f = position - vec2(origin);
             resampling = f.x * (1.0 - f.x) + f.y * (1.0 - f.y);
             vec4 wx = _TS_CatmullRomWeights(f.x), wy = _TS_CatmullRomWeights(f.y);
-            vec4 cubic = vec4(0.0), bilinear = vec4(0.0);
+            vec2 cubic = vec2(0.0); // History and temporal mean; samples and the local mean are smooth: bilinear.
+            vec4 bilinear = vec4(0.0);
             bool isCubicValid = true;
             // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from the block's first texel.
             const ivec2 offsets[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
@@ -293,7 +294,7 @@ void main()
                     bool isValid = all(lessThan(uvec2(texel), gResourceSize)) && !_NRD_IsSky(viewZPrev) &&
                                    abs(viewZPrev - viewZPrevExpected) < tolerance * (isInner ? 1.0 : TS_OUTER_TOLERANCE);
                     vec4 value = vec4(_TS_UnpackHistory(histories[i]), _TS_UnpackLocalMean(viewZs[i]));
-                    cubic += wx[k.x] * wy[k.y] * value;
+                    cubic += wx[k.x] * wy[k.y] * value.xy;
                     isCubicValid = isCubicValid && isValid;
                     if (isValid && isInner)
                     {
@@ -303,13 +304,9 @@ void main()
                     }
                 }
             }
-            if (isCubicValid)
-            {
-                history = clamp(cubic, vec4(0.0), vec4(1.0, 1.0, TS_MAX_HISTORY, 1.0));
-                footprint = 1.0;
-            }
-            else
-                history = bilinear;
+            history = bilinear;
+            if (isCubicValid) // Then the bilinear footprint is complete: 'footprint' is 1.
+                history.xy = clamp(cubic, 0.0, 1.0);
         }
         bool isDisoccluded = footprint < 0.01;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
