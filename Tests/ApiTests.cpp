@@ -572,7 +572,8 @@ TEST_CASE("Golden dispatch sequence and pools of TILED_SHADOW", "[api]")
                                                           "TILED_SHADOW - A-trous step 1"});
     settings.debugView = nrd::TiledShadowDebug::LOCAL_MEAN;
     REQUIRE(nrd::SetMethodSettings(d, 3, settings) == nrd::Result::SUCCESS);
-    CHECK(DispatchNames(d, 4) == std::vector<std::string>{"TILED_SHADOW - Prepare", "TILED_SHADOW - Classify"});
+    CHECK(DispatchNames(d, 4) == std::vector<std::string>{"TILED_SHADOW - Prepare", "TILED_SHADOW - Classify",
+                                                          "TILED_SHADOW - A-trous step 1"});
 
     const nrd::DenoiserDesc& desc = nrd::GetDenoiserDesc(d);
     REQUIRE(desc.permanentPoolSize == 1);
