@@ -4,10 +4,10 @@
 // input's, temporal instability at most half the input's, lag at most 6 frames. The truth uses 64
 // samples per pixel here (lavapipe time); the frame cache makes reruns cheap.
 //
-// The still scenes meet the bar and assert it. The moving ones do not all meet it yet (camera
-// motion resamples the history, which the sharp shadows of these scenes do not survive, and
-// moving shadows lose theirs to the clamp): their test pins what is reached today, so that it can
-// only improve; the numbers are printed next to the bar.
+// The still scenes and the light switch meet the bar and assert it. The moving ones do not yet
+// (camera motion aliases the thin, hard shadows of these scenes, and the history cannot follow
+// them): their test pins what is reached today, so that it can only improve; the numbers are
+// printed next to the bar.
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
@@ -67,22 +67,31 @@ TEST_CASE("TILED_SHADOW meets the quality bar on still scenes", "[quality]")
     }
 }
 
+TEST_CASE("TILED_SHADOW meets the quality bar and the lag limit when a light switches", "[quality]")
+{
+    // The shadow light goes off at frame 16 and on at 24: each change is its own lag event.
+    Measured m = Run("light_switch");
+    CHECK(m.relmseRatio >= 5.0);
+    CHECK(m.flipDenoised < m.flipNoisy);
+    CHECK(m.instabilityDenoised <= 0.5 * m.instabilityNoisy);
+    CHECK(m.lag <= 6);
+}
+
 TEST_CASE("TILED_SHADOW keeps its measured quality on moving scenes", "[quality]")
 {
-    // Measured on lavapipe when written: moving_occluder 2.5x, light_switch 6.9x (lag 14 frames),
-    // camera_translation 0.6x. Floors sit below those; the bar is 3x and a lag of 6 frames.
+    // Measured on lavapipe when written: moving_occluder 2.6x, disocclusion 2.1x, camera_translation
+    // 0.94x; instability 0.52x, 0.50x and 0.70x of the input's. Floors sit below those; the bar is
+    // 3x and 0.5x.
     struct Floor
     {
         const char* scene;
         double relmseRatio;
-        int32_t lag;
     };
-    for (Floor f : {Floor{"moving_occluder", 2.0, 0}, Floor{"light_switch", 5.0, 18}, Floor{"camera_translation", 0.4, 0}})
+    for (Floor f : {Floor{"moving_occluder", 2.3}, Floor{"disocclusion", 1.8}, Floor{"camera_translation", 0.8}})
     {
         INFO(f.scene);
         Measured m = Run(f.scene);
         CHECK(m.relmseRatio >= f.relmseRatio);
-        CHECK(m.lag <= f.lag);
         CHECK(m.instabilityDenoised <= m.instabilityNoisy);
     }
 }

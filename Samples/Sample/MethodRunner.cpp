@@ -165,6 +165,8 @@ bool ParseSettings(const std::string& text, nrd::CommonSettings& common, nrd::Si
             ReadField(t, "maxHistoryFrameNum", tiled.maxHistoryFrameNum);
             ReadField(t, "planeDistanceSensitivity", tiled.planeDistanceSensitivity);
             ReadField(t, "normalPower", tiled.normalPower);
+            if (t.contains("debugView"))
+                tiled.debugView = nrd::TiledShadowDebug(t["debugView"].get<int>());
         }
     }
     catch (const std::exception& e)
@@ -488,19 +490,19 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     report.renderNoisyMs /= report.frames;
     report.renderTruthMs /= report.frames;
 
-    // Lag: the first sudden change of the truth after the warm-up (a frame-to-frame change 4x the
-    // largest seen during the warm-up), and the frames until the denoised error is back within 2x
-    // of its level before the change.
+    // Lag: sudden changes of the truth after the warm-up (a frame-to-frame change 4x the largest
+    // seen during the warm-up; consecutive frames of change are one event). For each, the frames
+    // until the denoised error is back within 2x of its level before the first change, counted up
+    // to the next event (a light that switches off and on again is two events, each with its own
+    // lag). The report keeps the event with the longest lag.
     double calm = 1e-4;
     for (uint32_t f = 1; f < report.warmup; f++)
         calm = std::max(calm, truthChange[f]);
+    std::vector<uint32_t> events;
     for (uint32_t f = std::max(report.warmup, 1u); f < report.frames; f++)
-        if (truthChange[f] > 4.0 * calm)
-        {
-            report.lagEventFrame = int32_t(f);
-            break;
-        }
-    if (report.lagEventFrame > 0)
+        if (truthChange[f] > 4.0 * calm && (events.empty() || !(truthChange[f - 1] > 4.0 * calm)))
+            events.push_back(f);
+    if (!events.empty())
     {
         std::vector<double> errors;
         double steady = 0.0;
@@ -508,7 +510,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         for (uint32_t f = 0; f < report.frames; f++)
         {
             errors.push_back(report.perFrame[f].relmseDenoised);
-            if (f >= report.warmup && int32_t(f) < report.lagEventFrame)
+            if (f >= report.warmup && f < events.front())
             {
                 steady += report.perFrame[f].relmseDenoised;
                 steadyNum++;
@@ -520,7 +522,17 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             steady = errors.back();
             steadyNum = 1;
         }
-        report.lagFrames = LagFrames(errors, size_t(report.lagEventFrame), steady / steadyNum);
+        for (size_t e = 0; e < events.size(); e++)
+        {
+            size_t end = e + 1 < events.size() ? events[e + 1] : errors.size();
+            std::vector<double> window(errors.begin(), errors.begin() + end);
+            int32_t lag = LagFrames(window, events[e], steady / steadyNum);
+            if (report.lagEventFrame < 0 || lag > report.lagFrames)
+            {
+                report.lagFrames = lag;
+                report.lagEventFrame = int32_t(events[e]);
+            }
+        }
     }
 
     report.validationMessages = vk.ValidationMessageCount();

@@ -48,7 +48,8 @@ struct RunReport
     uint64_t memoryBytes = 0;      // The integration layer's device memory (pools, constants).
     uint32_t dispatchesPerFrame = 0, pipelines = 0;
     FrameMetrics mean;             // Averages over the frames after the warm-up.
-    int32_t lagFrames = 0;         // Frames to recover after the first sudden change (0 if none).
+    int32_t lagFrames = 0;         // Frames to recover after a sudden change, the longest over the
+                                   // changes (each counted up to the next one; 0 if none).
     int32_t lagEventFrame = -1;    // That change's frame, -1 if the truth never changes suddenly.
     std::vector<FrameMetrics> perFrame;
     std::vector<std::pair<std::string, double>> passMs; // Mean GPU time per dispatch name.

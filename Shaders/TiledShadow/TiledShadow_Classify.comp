@@ -45,6 +45,17 @@
 #define TS_OUTER_TOLERANCE 1.5
 // History farther than this from the value of a uniform 5x5 window of bits is dropped.
 #define TS_NEAR_CONTRADICTION 0.25
+// A footprint holding a texel whose temporal mean is within this of 0 and one within this of 1
+// straddles a hard shadow edge.
+#define TS_HARD_EDGE 0.05
+// A shadowed sample whose history gives it a likelihood below this, with a shadowed neighbour, is
+// output as it is (a shadow arrived).
+#define TS_CONTRADICTION 0.02
+// A neighbourhood whose running local mean was uniform (within this of 0 or 1) and moved by more
+// than TS_GLOBAL_CHANGE (a light switched on) keeps TS_CLAMPED_SAMPLES of its clamped history.
+#define TS_UNIFORM_BEFORE 0.02
+#define TS_GLOBAL_CHANGE 0.2
+#define TS_CLAMPED_SAMPLES 3.0
 // Window radius of the "near" statistics (variance boost, clamp box extension).
 #define TS_BOOST_RADIUS 1
 
@@ -264,6 +275,8 @@ void main()
         // outside the image. Eight gathers: viewZ (+ previous local mean) and packed history.
         vec4 history = vec4(0.0); // History, temporal mean, samples, previous local mean.
         float footprint = 0.0;
+        vec4 weighted = vec4(0.0);
+        float support = 0.0, meanMin = 1.0, meanMax = 0.0;
         float resampling = 0.0; // Blur of the resampling: 0 at texel centres, 0.5 halfway on both axes.
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
@@ -301,12 +314,41 @@ void main()
                         float w = (k.x == 1 ? 1.0 - f.x : f.x) * (k.y == 1 ? 1.0 - f.y : f.y);
                         bilinear += w * value;
                         footprint += w;
+                        // Likelihood of this frame's sample under the texel's temporal mean.
+                        float likelihood = sample0 != 0.0 ? value.y : 1.0 - value.y;
+                        weighted += (w * likelihood) * value;
+                        support += w * likelihood;
+                        if (w > 0.01)
+                        {
+                            meanMin = min(meanMin, value.y);
+                            meanMax = max(meanMax, value.y);
+                        }
                     }
                 }
             }
             history = bilinear;
-            if (isCubicValid) // Then the bilinear footprint is complete: 'footprint' is 1.
+            if (meanMin < TS_HARD_EDGE && meanMax > 1.0 - TS_HARD_EDGE && support > 1e-4)
+            {
+                // A hard edge crosses the footprint: interpolating would leak one side into the
+                // other. Each texel is weighted by how well it explains this frame's sample (a
+                // steep penumbra is left to the interpolation: there it would follow the noise).
+                history = weighted * (footprint / support);
+            }
+            else if (isCubicValid) // Then the bilinear footprint is complete: 'footprint' is 1.
                 history.xy = clamp(cubic, 0.0, 1.0);
+        }
+        // A shadowed sample that every texel of the history calls nearly impossible, next to another
+        // shadowed pixel: a shadow arrived (a moving occluder, a surface revealed or aliased into view
+        // by camera motion). Only this direction: shown wrongly, a 0 on a lit surface costs about
+        // 1 / 100 of what a 1 costs in an umbra, and a penumbra arriving on a lit surface is the
+        // common false alarm.
+        bool isContradicted = false;
+        if (sample0 == 0.0 && support < TS_CONTRADICTION * footprint)
+        {
+            int lit3x3 = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                lit3x3 += bitCount((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 1)) & 7u);
+            isContradicted = lit3x3 < 8;
         }
         bool isDisoccluded = footprint < 0.01;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
@@ -337,6 +379,11 @@ void main()
         // standard errors of the local mean, so that noise alone rarely shortens the history.
         float outside = abs(history.x - clamped) / max(gLocalMeanNoise * sqrt(localVariance), 0.002);
         float previousSamples = history.z * exp(-TS_HISTORY_REJECTION * outside * outside);
+        // Where a uniform neighbourhood changed at once (a light switched on), the clamped history is
+        // the new neighbourhood's mean: worth a few samples, where restarting from one would take
+        // many frames to settle in the penumbrae. Elsewhere (a moving shadow) it would trail.
+        if (abs(localMean - history.w) > TS_GLOBAL_CHANGE && abs(history.w - 0.5) > 0.5 - TS_UNIFORM_BEFORE)
+            previousSamples = max(previousSamples, min(history.z, TS_CLAMPED_SAMPLES));
 
         // 3. Reprojection: running moments of the raw samples (their mean clamped like the history
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
@@ -372,6 +419,11 @@ void main()
             samples = min(samples, 1.0);
         }
         result = mix(clamped, sample0, alpha);
+
+        // A sample the history calls nearly impossible: the output is the sample (exact in hard
+        // shadows), unfiltered, while the history keeps 'result'.
+        if (isContradicted && !isDisoccluded)
+            variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
     imageStore(gOut_Shadow, pixel, vec4(result, variance, 0.0, 0.0));

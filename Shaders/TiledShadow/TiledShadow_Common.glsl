@@ -23,6 +23,16 @@
 #define TS_DEBUG_HISTORY_LENGTH 3u
 #define TS_DEBUG_TILE_CLASS 4u
 
+// The classification's variance channel below zero: the output is the sample 'TS_OUTPUT_SAMPLE -
+// variance' with no variance, while the history keeps the shadow channel.
+#define TS_OUTPUT_SAMPLE -1.0
+
+// The (shadow, variance) the filter sees in a texel of the classification's output.
+vec2 _TS_FilterInput(vec2 shadowVariance)
+{
+    return shadowVariance.y < 0.0 ? vec2(TS_OUTPUT_SAMPLE - shadowVariance.y, 0.0) : shadowVariance;
+}
+
 // Largest history length the packed state holds (TILED_SHADOW_MAX_HISTORY_FRAME_NUM).
 #define TS_MAX_HISTORY 63.0
 

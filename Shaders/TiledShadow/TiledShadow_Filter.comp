@@ -148,7 +148,7 @@ void main()
             if (all(lessThan(uvec2(p), gResourceSize)))
             {
                 z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), p, 0).x;
-                shadow = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), p, 0).xy;
+                shadow = _TS_FilterInput(texelFetch(sampler2D(gIn_Shadow, gNearestClamp), p, 0).xy);
                 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_Normal, gNearestClamp), p, 0)).xyz;
                 N = N * viewToWorld; // Transposed rotation: world -> view.
                 if (_NRD_IsSky(z))
@@ -169,7 +169,8 @@ void main()
         if (tileClass == TS_TILE_FILTERED && !isSkyPixel)
         {
             int center = (local.y + BORDER) * REGION + local.x + BORDER;
-            temporal = unpackHalf2x16(sShadow[center]).x;
+            if (gIsFirstPass != 0u)
+                temporal = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0).x;
             vec2 filtered = gNormalPower == 32.0 ? FilterTexel(center, pixel, true) : FilterTexel(center, pixel, false);
             result = filtered.x;
             resultVariance = filtered.y;
