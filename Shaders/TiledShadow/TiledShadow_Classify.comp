@@ -47,6 +47,8 @@
 #define TS_NEAR_CONTRADICTION 0.25
 // A footprint holding a texel whose temporal mean is within this of 0 and one within this of 1
 // straddles a hard shadow edge.
+// Below this many samples the variance boost also takes the spatial variance of the 3x3 bits.
+#define TS_SPATIAL_BOOST_SAMPLES 8.0
 #define TS_HARD_EDGE 0.05
 // A shadowed sample whose history gives it a likelihood below this, with a shadowed neighbour, is
 // output as it is (a shadow arrived).
@@ -390,13 +392,18 @@ void main()
         float previousMean = clampAmount > 0.0 ? clamp(history.y, boxMin, boxMax) : history.y;
         samples = min(previousSamples + 1.0, gMaxHistoryFrameNum);
         temporalMean = previousMean + (sample0 - previousMean) / samples;
-        variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) * samples / (samples - 1.0) : 0.0;
+        // The filter is handed the variance of the temporal estimate (of the mean of n samples), not
+        // of one sample: a settled history needs little spatial filtering, and thin shadows survive.
+        variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) / (samples - 1.0) : 0.0;
 
-        // Variance boost while few samples are known: a stronger spatial filter. The spatial variance
-        // is the bits' in the 3x3 window: the 17x17 one is large next to a sharp edge, which would
-        // blur the edge; noise shows in either.
+        // Variance boost while few samples are known: a stronger spatial filter. On a very short
+        // history the temporal variance means little, and the spatial one of the 3x3 bits is taken
+        // (the 17x17 one is large next to a sharp edge, which would blur the edge).
         if (samples < 16.0)
-            variance = max(variance, nearMean * (1.0 - nearMean)) * max(16.0 - samples, 1.0);
+        {
+            float spatial = samples < TS_SPATIAL_BOOST_SAMPLES ? nearMean * (1.0 - nearMean) : 0.0;
+            variance = max(variance, spatial) * max(16.0 - samples, 1.0);
+        }
 
         // Blend toward the current sample by history length, and by how much the resampling blurred
         // the history: repeated every frame of sub-pixel motion, it would wash out sharp shadows.
