@@ -15,6 +15,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 
 using namespace nrd;
 using nrd::test::Bindings;
@@ -314,6 +315,176 @@ size_t CountNonFinite(const std::vector<float>& values)
     return size_t(std::count_if(values.begin(), values.end(), [](float v) { return !std::isfinite(v); }));
 }
 
+
+// A float rounded to fp16, as an RG16F texture stores it: to nearest (ties to even) or toward zero
+// (the rounding of a 16-bit float conversion is the implementation's choice; lavapipe truncates).
+float RoundToHalf(float x, bool truncate)
+{
+    if (x == 0.0f || !std::isfinite(x))
+        return x;
+    int exponent = 0;
+    std::frexp(x, &exponent);
+    double quantum = std::ldexp(1.0, std::max(exponent - 11, -24)); // 11 significant bits, denormals 2^-24.
+    double q = double(x) / quantum;
+    return float((truncate ? std::trunc(q) : std::nearbyint(q)) * quantum);
+}
+
+// Inputs of the a-trous passes as the classification leaves them.
+struct FilterInputs
+{
+    uint32_t width = 0, height = 0;
+    std::vector<float> shadow;  // RG16F texels of the classification: (shadow, variance), raw.
+    std::vector<uint32_t> tiles; // Tile classes.
+};
+
+// CPU version of the a-trous passes with 'steps' on 'in' (identity camera of
+// test::StillCameraSettings: view = world, frustum (1, 0, 1, 0)); returns what the last pass writes
+// to OUT_SHADOW_TRANSLUCENCY (kSentinel at sky pixels). Every pass but the last rounds its output to
+// fp16 ('truncate': toward zero).
+std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, const std::vector<int>& steps, float normalPower,
+                                   float planeDistanceSensitivity, bool truncate)
+{
+    const int w = int(in.width), h = int(in.height), tilesX = (w + 7) / 8;
+    const size_t n = size_t(w) * h;
+    std::vector<double> z(n, 0.0), nx(n, 0.0), ny(n, 0.0), nz(n, 0.0);
+    std::vector<float> s(n * 2, 0.0f);
+    for (size_t i = 0; i < n; i++)
+    {
+        if (in.IsSky(uint32_t(i % w), uint32_t(i / w)) || in.viewZ[i] > 500000.0f)
+            continue;
+        z[i] = in.viewZ[i];
+        double v[3], length = 0.0;
+        for (int c = 0; c < 3; c++)
+        {
+            v[c] = std::round(double(in.normal[i * 4 + c]) * 255.0) / 255.0 * 2.0 - 1.0;
+            length += v[c] * v[c];
+        }
+        length = std::sqrt(length);
+        nx[i] = v[0] / length;
+        ny[i] = v[1] / length;
+        nz[i] = v[2] / length;
+        // The variance channel below zero: the sample -1 - variance, no variance.
+        bool isSample = f.shadow[i * 2 + 1] < 0.0f;
+        s[i * 2] = isSample ? -1.0f - f.shadow[i * 2 + 1] : f.shadow[i * 2];
+        s[i * 2 + 1] = isSample ? 0.0f : f.shadow[i * 2 + 1];
+        s[i * 2] = RoundToHalf(s[i * 2], truncate);
+    }
+    auto at = [&](const std::vector<float>& a, int x, int y, int c) {
+        return x < 0 || y < 0 || x >= w || y >= h ? 0.0 : double(a[(size_t(y) * w + x) * 2 + c]);
+    };
+    const double log2e = 1.4426950408889634;
+    std::vector<float> out(n, kSentinel);
+    for (size_t pass = 0; pass < steps.size(); pass++)
+    {
+        const int step = steps[pass];
+        const bool isLast = pass + 1 == steps.size();
+        std::vector<float> next(n * 2, 0.0f);
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++)
+            {
+                size_t c = size_t(y) * w + x;
+                if (z[c] == 0.0)
+                    continue;
+                uint32_t tileClass = f.tiles[size_t(y / 4) * tilesX + x / 8];
+                double result = tileClass == TILE_LIT ? 1.0 : 0.0, resultVariance = 0.0;
+                if (tileClass == TILE_FILTERED)
+                {
+                    double sc = s[c * 2], vc = s[c * 2 + 1], variance = 0.0;
+                    for (int dy = -1; dy <= 1; dy++)
+                        for (int dx = -1; dx <= 1; dx++)
+                            variance += (dx == 0 ? 0.5 : 0.25) * (dy == 0 ? 0.5 : 0.25) * at(s, x + dx, y + dy, 1);
+                    variance = std::min(variance, 4.0 * vc);
+                    double shadowScale = log2e / std::sqrt(std::max(variance, 0.0) + 1e-9);
+                    double ndcX = (x + 0.5) / w * 2.0 - 1.0, ndcY = (y + 0.5) / h * 2.0 - 1.0;
+                    double planeCenter = nx[c] * ndcX + ny[c] * ndcY + nz[c];
+                    double planeScale = log2e / planeDistanceSensitivity / z[c];
+                    double sum = sc, sumVariance = vc, weightSum = 1.0;
+                    for (int dy = -1; dy <= 1; dy++)
+                        for (int dx = -1; dx <= 1; dx++)
+                        {
+                            int px = x + dx * step, py = y + dy * step;
+                            if ((dx == 0 && dy == 0) || px < 0 || py < 0 || px >= w || py >= h)
+                                continue;
+                            size_t i = size_t(py) * w + px;
+                            if (z[i] == 0.0)
+                                continue;
+                            double NoN = std::max(nx[c] * nx[i] + ny[c] * ny[i] + nz[c] * nz[i], 0.0);
+                            double pndcX = (px + 0.5) / w * 2.0 - 1.0, pndcY = (py + 0.5) / h * 2.0 - 1.0;
+                            double plane = z[i] * (nx[c] * pndcX + ny[c] * pndcY + nz[c]) - z[c] * planeCenter;
+                            double darkness = 2.0 / (std::min(double(s[i * 2]), sc) + 1.0);
+                            double exponent = (dx != 0 ? std::log2(2.0 / 3.0) : 0.0) + (dy != 0 ? std::log2(2.0 / 3.0) : 0.0) -
+                                              std::fabs(s[i * 2] - sc) * shadowScale * darkness - std::fabs(plane) * planeScale;
+                            double weight = std::exp2(exponent) * std::pow(NoN, double(normalPower));
+                            sum += weight * s[i * 2];
+                            sumVariance += weight * weight * s[i * 2 + 1];
+                            weightSum += weight;
+                        }
+                    result = sum / weightSum;
+                    resultVariance = sumVariance / (weightSum * weightSum);
+                }
+                if (isLast)
+                    out[c] = float(std::min(std::max(result, 0.0), 1.0));
+                next[c * 2] = RoundToHalf(float(result), truncate);
+                next[c * 2 + 1] = RoundToHalf(float(resultVariance), truncate);
+            }
+        s.swap(next);
+    }
+    return out;
+}
+
+// Pool indices of the classification's (shadow, variance) and tile classes: resources 0 and 4 of
+// the first a-trous dispatch of a core denoiser created like 'rig'.
+std::pair<uint16_t, uint16_t> FilterInputPoolIndices(uint32_t w, uint32_t h, const TiledShadowSettings& settings)
+{
+    MethodDesc methodDesc = {TILED_ID, Method::TILED_SHADOW};
+    DenoiserCreationDesc desc = {};
+    desc.methods = &methodDesc;
+    desc.methodsNum = 1;
+    desc.renderWidth = uint16_t(w);
+    desc.renderHeight = uint16_t(h);
+    Denoiser* denoiser = nullptr;
+    REQUIRE(CreateDenoiser(desc, denoiser) == Result::SUCCESS);
+    REQUIRE(SetMethodSettings(*denoiser, TILED_ID, settings) == Result::SUCCESS);
+    REQUIRE(SetCommonSettings(*denoiser, test::StillCameraSettings(0)) == Result::SUCCESS);
+    const DispatchDesc* dispatches = nullptr;
+    uint32_t num = 0;
+    REQUIRE(GetComputeDispatches(*denoiser, nullptr, 0, dispatches, num) == Result::SUCCESS);
+    std::pair<uint16_t, uint16_t> indices = {0xFFFF, 0xFFFF};
+    for (uint32_t d = 0; d < num && indices.first == 0xFFFF; d++)
+        if (std::string(dispatches[d].name).find("A-trous") != std::string::npos)
+        {
+            REQUIRE(dispatches[d].resourcesNum > 4);
+            REQUIRE(dispatches[d].resources[0].type == ResourceType::TRANSIENT_POOL);
+            REQUIRE(dispatches[d].resources[4].type == ResourceType::TRANSIENT_POOL);
+            indices = {dispatches[d].resources[0].indexInPool, dispatches[d].resources[4].indexInPool};
+        }
+    DestroyDenoiser(denoiser);
+    REQUIRE(indices.first != 0xFFFF);
+    return indices;
+}
+
+// Reads a transient pool texture back (the last Denoise of 'integration' must have completed).
+std::vector<float> ReadbackTransient(lab::VulkanContext& context, Integration& integration, uint16_t index)
+{
+    Integration::PoolImage image = integration.GetPoolImage(ResourceType::TRANSIENT_POOL, index);
+    REQUIRE(image.texture != nullptr);
+    lab::LabTexture view;
+    view.texture = image.texture;
+    view.format = rhi::FromVkFormat(image.format);
+    view.width = image.width;
+    view.height = image.height;
+    view.state = image.state;
+    std::vector<float> pixels;
+    REQUIRE(context.ReadbackTexture(view, pixels) == VK_SUCCESS);
+    // Back to the state the Integration tracks.
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
+    rhi::TextureBarrier back = {image.texture, view.state, image.state};
+    context.GetDevice().CmdBarrier(rhi::GetCommandBuffer(commandBuffer), {nullptr, 0, nullptr, 0, &back, 1});
+    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
+    return pixels;
+}
+
 } // namespace
 
 TEST_CASE("TILED_SHADOW local moments from bitmasks equal a brute-force 17x17 reference", "[vulkan]")
@@ -344,6 +515,120 @@ TEST_CASE("TILED_SHADOW local moments from bitmasks equal a brute-force 17x17 re
                 CHECK(test::CountMismatches(mean, expected, 2e-6f, 1e-5f) == 0);
             }
         }
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("TILED_SHADOW a-trous passes equal a CPU reference", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+
+    // Noise on a bumpy surface at varying depth with sky holes; the left 24 columns lit (skipped
+    // tiles next to filtered ones).
+    const uint32_t w = 61, h = 37;
+    Inputs in = RandomInputs(w, h, 11, 0.5f);
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> tilt(-60, 60), depth(0, 999);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+        {
+            size_t i = size_t(y) * w + x;
+            in.viewZ[i] = 8.0f + 0.05f * float(x) + 0.002f * float(depth(rng));
+            if (depth(rng) < 25)
+                in.viewZ[i] = 0.0f;
+            // Exact unorm8 values: the reference sees what the texture holds.
+            in.normal[i * 4 + 0] = float(128 + tilt(rng)) / 255.0f;
+            in.normal[i * 4 + 1] = float(128 + tilt(rng)) / 255.0f;
+            in.normal[i * 4 + 2] = float(20 + tilt(rng) / 4) / 255.0f;
+            if (x < 24)
+                in.visibility[i] = 1.0f;
+        }
+
+    struct Case
+    {
+        uint32_t passNum;
+        float normalPower, planeDistanceSensitivity;
+    };
+    for (Case c : {Case{3, 32.0f, 0.02f}, Case{3, 7.5f, 0.05f}, Case{2, 32.0f, 0.02f}, Case{1, 0.0f, 0.02f}})
+    {
+        INFO(c.passNum << " passes, normalPower " << c.normalPower << ", planeDistanceSensitivity " << c.planeDistanceSensitivity);
+        TiledShadowSettings settings;
+        settings.atrousPassNum = c.passNum;
+        settings.normalPower = c.normalPower;
+        settings.planeDistanceSensitivity = c.planeDistanceSensitivity;
+        // One pass only: the classification's output stays in its texture. The classification does
+        // not depend on the a-trous settings, so both denoisers see the same input.
+        TiledShadowSettings single = settings;
+        single.atrousPassNum = 1;
+        std::pair<uint16_t, uint16_t> indices = FilterInputPoolIndices(w, h, single);
+
+        TiledShadowRig rig(*context), singleRig(*context);
+        rig.Create(w, h, settings);
+        singleRig.Create(w, h, single);
+        std::vector<float> out, singleOut;
+        for (uint32_t frame = 0; frame < 3; frame++)
+        {
+            out = rig.Frame(frame, in);
+            singleOut = singleRig.Frame(frame, in);
+        }
+        FilterInputs f;
+        f.width = w;
+        f.height = h;
+        f.shadow = ReadbackTransient(*context, singleRig.integration, indices.first);
+        std::vector<float> tiles = ReadbackTransient(*context, singleRig.integration, indices.second);
+        REQUIRE(tiles.size() == size_t((w + 7) / 8) * ((h + 3) / 4));
+        size_t filteredTiles = 0, litTiles = 0;
+        for (float t : tiles)
+        {
+            f.tiles.push_back(uint32_t(t));
+            filteredTiles += uint32_t(t) == TILE_FILTERED;
+            litTiles += uint32_t(t) == TILE_LIT;
+        }
+        CHECK(filteredTiles > 0);
+        CHECK(litTiles > 0);
+
+        auto compare = [&](const std::vector<float>& test, const std::vector<float>& reference, double& maxDiff,
+                           double& meanDiff) {
+            maxDiff = meanDiff = 0.0;
+            for (size_t i = 0; i < test.size(); i++)
+            {
+                bool sky = in.IsSky(uint32_t(i % w), uint32_t(i / w));
+                CHECK((sky ? test[i] == kSentinel : (test[i] >= 0.0f && test[i] <= 1.0f)));
+                double d = std::fabs(double(test[i]) - double(reference[i]));
+                maxDiff = std::max(maxDiff, d);
+                meanDiff += d / double(test.size());
+            }
+        };
+        const std::vector<int> allSteps = {1, 2, 4};
+        std::vector<int> steps(allSteps.begin(), allSteps.begin() + c.passNum);
+        // The reference with the fp16 rounding that fits best; the same rounding for the checks below.
+        double maxDiff = 0.0, meanDiff = 0.0, otherMax = 0.0, otherMean = 0.0;
+        compare(out, AtrousReference(in, f, steps, c.normalPower, c.planeDistanceSensitivity, false), maxDiff, meanDiff);
+        compare(out, AtrousReference(in, f, steps, c.normalPower, c.planeDistanceSensitivity, true), otherMax, otherMean);
+        const bool truncate = otherMean < meanDiff;
+        if (truncate)
+        {
+            maxDiff = otherMax;
+            meanDiff = otherMean;
+        }
+        double singleMax = 0.0, singleMean = 0.0;
+        compare(singleOut, AtrousReference(in, f, {1}, c.normalPower, c.planeDistanceSensitivity, truncate), singleMax, singleMean);
+        // The same tolerance rejects a neighbouring filter (the last step doubled).
+        std::vector<int> wrongSteps = steps;
+        wrongSteps.back() *= 2;
+        double wrongMax = 0.0, wrongMean = 0.0;
+        compare(out, AtrousReference(in, f, wrongSteps, c.normalPower, c.planeDistanceSensitivity, truncate), wrongMax, wrongMean);
+        printf("TILED_SHADOW a-trous vs CPU reference (%u passes, normalPower %.1f, fp16 %s): max %.2e mean %.2e (one pass: "
+               "max %.2e mean %.2e; last step doubled: mean %.2e)\n",
+               c.passNum, c.normalPower, truncate ? "toward zero" : "to nearest", maxDiff, meanDiff, singleMax, singleMean,
+               wrongMean);
+        // An fp16 rounding of an intermediate that goes the other way moves a value by up to 2^-11.
+        CHECK(maxDiff < 1e-3);
+        CHECK(meanDiff < 1e-5);
+        CHECK(singleMax < 1e-5);
+        CHECK(singleMean < 1e-6);
+        CHECK(wrongMean > 100.0 * 1e-5);
     }
     CHECK(context->ValidationMessageCount() == 0);
 }

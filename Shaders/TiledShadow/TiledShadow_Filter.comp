@@ -29,11 +29,8 @@
 
 // Sky and pixels outside the image hold zeros: viewZ 0 marks them, their zero normal gives them
 // zero weight.
-shared uint sShadow[REGION * REGION]; // packHalf2x16(shadow, variance).
-shared float sViewZ[REGION * REGION];
-shared float sNormalX[REGION * REGION]; // View-space normals (the plane test needs them there).
-shared float sNormalY[REGION * REGION];
-shared float sNormalZ[REGION * REGION];
+shared uint sShadow[REGION * REGION];   // packHalf2x16(shadow, variance).
+shared vec4 sGeometry[REGION * REGION]; // View-space normal (the plane test needs it there), viewZ: one load per tap.
 shared uint sTileClass[GROUP_TILES_X * GROUP_TILES_Y];
 
 float Pow32(float x)
@@ -49,7 +46,8 @@ float Pow32(float x)
 vec2 FilterTexel(int center, ivec2 pixel, bool isPower32)
 {
     vec2 shadowCenter = unpackHalf2x16(sShadow[center]);
-    float zCenter = sViewZ[center];
+    vec4 geometryCenter = sGeometry[center];
+    float zCenter = geometryCenter.w;
 
     // Variance prefiltered with a 3x3 Gaussian (1/4, 1/8, 1/16), at most 4x the pixel's own: a
     // settled umbra or lit pixel (variance 0) next to a penumbra takes nothing from it.
@@ -62,7 +60,7 @@ vec2 FilterTexel(int center, ivec2 pixel, bool isPower32)
 
     // Tangent plane of the centre in view space: plane(X') = dot(Nv, X') - dot(Nv, Xc) with
     // X' = z' * (ndc'.x * f.x + f.y, ndc'.y * f.z + f.w, sign); per tap it costs two FMAs.
-    vec3 N = vec3(sNormalX[center], sNormalY[center], sNormalZ[center]);
+    vec3 N = geometryCenter.xyz;
     vec2 ndc = _NRD_PixelUv(pixel) * 2.0 - 1.0;
     float planeCenter = N.x * (ndc.x * gFrustum.x + gFrustum.y) + N.y * (ndc.y * gFrustum.z + gFrustum.w) + N.z * gViewZSign;
     vec2 planeStep = N.xy * gFrustum.xz * 2.0 * gInvResourceSize * float(TILED_SHADOW_STEP);
@@ -78,9 +76,10 @@ vec2 FilterTexel(int center, ivec2 pixel, bool isPower32)
             if (dx == 0 && dy == 0)
                 continue;
             int i = center + (dy * REGION + dx) * TILED_SHADOW_STEP;
-            float z = sViewZ[i];
+            vec4 geometry = sGeometry[i];
+            float z = geometry.w;
             vec2 shadow = unpackHalf2x16(sShadow[i]);
-            float NoN = max(N.x * sNormalX[i] + N.y * sNormalY[i] + N.z * sNormalZ[i], 0.0);
+            float NoN = max(N.x * geometry.x + N.y * geometry.y + N.z * geometry.z, 0.0);
             float plane = z * (planeCenter + float(dx) * planeStep.x + float(dy) * planeStep.y) - planeOffset;
             float kernel = (dx != 0 ? LOG2_TWO_THIRDS : 0.0) + (dy != 0 ? LOG2_TWO_THIRDS : 0.0);
             // Dark values take less: relative to a small value a difference is a large error.
@@ -159,10 +158,7 @@ void main()
                 }
             }
             sShadow[i] = packHalf2x16(shadow);
-            sViewZ[i] = z;
-            sNormalX[i] = N.x;
-            sNormalY[i] = N.y;
-            sNormalZ[i] = N.z;
+            sGeometry[i] = vec4(N, z);
         }
         barrier();
 
