@@ -34,8 +34,9 @@
 // How fast history outside the clamp box loses samples, per squared standard error of the local mean.
 #define TS_HISTORY_REJECTION 2.0
 // The clamp starts when the local mean moved this many standard errors from its running mean
-// (fully on 2 standard errors later); the running mean follows with this blend factor.
-#define TS_CHANGE_THRESHOLD 2.0
+// (fully on 2 standard errors later; the history is then at most TS_CHANGING_HISTORY long); the
+// running mean follows with this blend factor.
+#define TS_CHANGE_THRESHOLD 1.0
 #define TS_LOCAL_MEAN_ALPHA 0.1
 // Least blend factor per unit of resampling blur (f.x (1 - f.x) + f.y (1 - f.y), f the fractional
 // position of the history sample): sub-pixel motion resamples the history every frame, which
@@ -47,12 +48,17 @@
 #define TS_NEAR_CONTRADICTION 0.25
 // A footprint holding a texel whose temporal mean is within this of 0 and one within this of 1
 // straddles a hard shadow edge.
-// Below this many samples the variance boost also takes the spatial variance of the 3x3 bits.
-#define TS_SPATIAL_BOOST_SAMPLES 8.0
 #define TS_HARD_EDGE 0.05
-// A shadowed sample whose history gives it a likelihood below this, with a shadowed neighbour, is
-// output as it is (a shadow arrived).
+// Below this many samples the variance boost takes the spatial variance of the 3x3 bits as it is.
+#define TS_SPATIAL_BOOST_SAMPLES 8.0
+// Longest history while the neighbourhood changes (fully at clampAmount 1).
+#define TS_CHANGING_HISTORY 4.0
+// A shadowed sample whose history gives it a likelihood below TS_CONTRADICTION, with a shadowed
+// neighbour, or below TS_CONTRADICTION_WIDE with TS_CONTRADICTION_WIDE_NEIGHBORS of the 8, is output
+// as it is (a shadow arrived).
 #define TS_CONTRADICTION 0.02
+#define TS_CONTRADICTION_WIDE 0.15
+#define TS_CONTRADICTION_WIDE_NEIGHBORS 4
 // A neighbourhood whose running local mean was uniform (within this of 0 or 1) and moved by more
 // than TS_GLOBAL_CHANGE (a light switched on) keeps TS_CLAMPED_SAMPLES of its clamped history.
 #define TS_UNIFORM_BEFORE 0.02
@@ -340,17 +346,18 @@ void main()
                 history.xy = clamp(cubic, 0.0, 1.0);
         }
         // A shadowed sample that every texel of the history calls nearly impossible, next to another
-        // shadowed pixel: a shadow arrived (a moving occluder, a surface revealed or aliased into view
+        // shadowed pixel (or unlikely, next to several): a shadow arrived (a moving occluder, a surface revealed or aliased into view
         // by camera motion). Only this direction: shown wrongly, a 0 on a lit surface costs about
         // 1 / 100 of what a 1 costs in an umbra, and a penumbra arriving on a lit surface is the
         // common false alarm.
         bool isContradicted = false;
-        if (sample0 == 0.0 && support < TS_CONTRADICTION * footprint)
+        if (sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint)
         {
             int lit3x3 = 0;
             for (int dy = -1; dy <= 1; dy++)
                 lit3x3 += bitCount((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 1)) & 7u);
-            isContradicted = lit3x3 < 8;
+            int shadowedNeighbors = 8 - lit3x3; // The centre is shadowed.
+            isContradicted = shadowedNeighbors >= (support < TS_CONTRADICTION * footprint ? 1 : TS_CONTRADICTION_WIDE_NEIGHBORS);
         }
         bool isDisoccluded = footprint < 0.01;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
@@ -390,18 +397,22 @@ void main()
         // 3. Reprojection: running moments of the raw samples (their mean clamped like the history
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
         float previousMean = clampAmount > 0.0 ? clamp(history.y, boxMin, boxMax) : history.y;
-        samples = min(previousSamples + 1.0, gMaxHistoryFrameNum);
+        samples = min(previousSamples + 1.0, mix(gMaxHistoryFrameNum, min(gMaxHistoryFrameNum, TS_CHANGING_HISTORY), clampAmount));
         temporalMean = previousMean + (sample0 - previousMean) / samples;
         // The filter is handed the variance of the temporal estimate (of the mean of n samples), not
         // of one sample: a settled history needs little spatial filtering, and thin shadows survive.
         variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) / (samples - 1.0) : 0.0;
 
-        // Variance boost while few samples are known: a stronger spatial filter. On a very short
-        // history the temporal variance means little, and the spatial one of the 3x3 bits is taken
-        // (the 17x17 one is large next to a sharp edge, which would blur the edge).
+        // Variance boost while few samples are known: a stronger spatial filter. On a short history
+        // the temporal variance means little, and the spatial one of the 3x3 bits is taken (the
+        // 17x17 one is large next to a sharp edge, which would blur the edge); from
+        // TS_SPATIAL_BOOST_SAMPLES on, no more than one sample's temporal variance: a hard edge
+        // that stays put (variance 0) keeps its shape.
         if (samples < 16.0)
         {
-            float spatial = samples < TS_SPATIAL_BOOST_SAMPLES ? nearMean * (1.0 - nearMean) : 0.0;
+            float spatial = nearMean * (1.0 - nearMean);
+            if (samples >= TS_SPATIAL_BOOST_SAMPLES)
+                spatial = min(spatial, temporalMean * (1.0 - temporalMean));
             variance = max(variance, spatial) * max(16.0 - samples, 1.0);
         }
 
