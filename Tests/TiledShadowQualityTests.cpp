@@ -79,19 +79,25 @@ TEST_CASE("TILED_SHADOW meets the quality bar and the lag limit when a light swi
 
 TEST_CASE("TILED_SHADOW keeps its measured quality on moving scenes", "[quality]")
 {
-    // Measured on lavapipe when written: moving_occluder 2.6x, disocclusion 2.1x, camera_translation
-    // 0.94x; instability 0.52x, 0.50x and 0.70x of the input's. Floors sit below those; the bar is
-    // 3x and 0.5x.
+    // Measured on lavapipe when written (relMSE ratio; instability as a fraction of the input's):
+    // moving_occluder 2.91x, 0.54; disocclusion 2.87x, 0.51; camera_translation 1.08x, 0.61;
+    // camera_rotation 1.23x, 0.76; moving_light 1.61x, 0.76. Floors sit below those; the bar is 3x
+    // and 0.5. FLIP is below the input's on all but moving_light (0.0183 against 0.0174).
     struct Floor
     {
         const char* scene;
         double relmseRatio;
+        bool isFlipBelowInput;
     };
-    for (Floor f : {Floor{"moving_occluder", 2.3}, Floor{"disocclusion", 1.8}, Floor{"camera_translation", 0.8}})
+    for (Floor f : {Floor{"moving_occluder", 2.7, true}, Floor{"disocclusion", 2.6, true},
+                    Floor{"camera_translation", 0.95, true}, Floor{"camera_rotation", 1.1, true},
+                    Floor{"moving_light", 1.4, false}})
     {
         INFO(f.scene);
         Measured m = Run(f.scene);
         CHECK(m.relmseRatio >= f.relmseRatio);
-        CHECK(m.instabilityDenoised <= m.instabilityNoisy);
+        CHECK(m.instabilityDenoised <= 0.85 * m.instabilityNoisy);
+        if (f.isFlipBelowInput)
+            CHECK(m.flipDenoised < m.flipNoisy);
     }
 }
