@@ -29,6 +29,9 @@
 #define REGION_TILES_X (GROUP_TILES_X + 2 * HALO_TILES_X)
 #define REGION_TILES_Y (GROUP_TILES_Y + 2 * HALO_TILES_Y)
 #define REGION_TILES (REGION_TILES_X * REGION_TILES_Y)
+#if HALO_TILES_X != 1 || REGION_TILES_X != 4
+#error "the tile classification reads a region row as one uvec4"
+#endif
 // Rows of horizontal sums: the group's rows plus RADIUS_MAX above and below.
 #define SUM_ROWS (GROUP_SIZE + 2 * RADIUS_MAX)
 // How fast history outside the clamp box loses samples, per squared standard error of the local mean.
@@ -68,7 +71,9 @@
 #define TS_BOOST_RADIUS 1
 
 shared uint sMask[REGION_TILES];  // Bits of the region's tiles, pixels outside the image cleared.
-shared uint sMixed[REGION_TILES]; // Bit 0: the tile has a lit pixel in the image; bit 1: a shadowed one.
+// Per region row of REGION_TILES_X tiles, bit 0: the tile has a lit pixel in the image; bit 1: a
+// shadowed one. One vector per row: a tile's 3x5 neighbourhood is five loads.
+shared uvec4 sMixed[REGION_TILES_Y];
 shared float sRowSum[SUM_ROWS * GROUP_SIZE];
 shared uint sTileHasSurface[GROUP_TILES_X * GROUP_TILES_Y];
 
@@ -105,6 +110,21 @@ uint RowWindow(int row, int localX)
                   (RowByte(sMask[base + 1], rowInTile) << 16);
     return window >> uint(localX % TS_TILE_W);
 }
+
+// The 5x5 bits around the pixel at 'local': bit (dx + 2) + 5 (dy + 2) is pixel (dx, dy) away.
+uint NearWindow(ivec2 local)
+{
+    uint bits = 0u;
+    for (int dy = -2; dy <= 2; dy++)
+        bits |= ((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 2)) & 0x1Fu) << uint(5 * (dy + 2));
+    return bits;
+}
+// The 3x3 bits of the 5x5 window.
+#define NEAR_3X3 0x739C0u
+#define NEAR_5X5 0x1FFFFFFu
+#if TS_BOOST_RADIUS != 1
+#error "the near mean counts the 3x3 bits of NearWindow"
+#endif
 
 // Sum over i in [-8, 8] of w(|i|) * bit(center + i) for the 17 bits of 'window' (center at bit 8):
 // nested windows of half-width k weighted by w(k) - w(k + 1), one popcount each.
@@ -152,7 +172,7 @@ void main()
             bits = texelFetch(usampler2D(gIn_Mask, gNearestClamp), tile, 0).x & valid;
         }
         sMask[threadIndex] = bits;
-        sMixed[threadIndex] = (bits != 0u ? 1u : 0u) | (bits != valid ? 2u : 0u);
+        sMixed[threadIndex / REGION_TILES_X][threadIndex % REGION_TILES_X] = (bits != 0u ? 1u : 0u) | (bits != valid ? 2u : 0u);
     }
     if (threadIndex < GROUP_TILES_X * GROUP_TILES_Y)
         sTileHasSurface[threadIndex] = 0u;
@@ -167,10 +187,16 @@ void main()
 
     // The tile is uniform when its 3x5-tile neighbourhood has only lit or only shadowed pixels.
     ivec2 regionTile = ivec2(local.x / TS_TILE_W + HALO_TILES_X, local.y / TS_TILE_H + HALO_TILES_Y);
-    uint mixed = 0u;
-    for (int dy = -HALO_TILES_Y; dy <= HALO_TILES_Y; dy++)
-        for (int dx = -HALO_TILES_X; dx <= HALO_TILES_X; dx++)
-            mixed |= sMixed[(regionTile.y + dy) * REGION_TILES_X + regionTile.x + dx];
+    // (regionTile.x is 1 or 2: its row neighbours are tiles 0..2 or 1..3 of the row.)
+    uint mixed = 0u, regionMixed = 0u;
+    for (int y = 0; y < REGION_TILES_Y; y++)
+    {
+        uvec4 row = sMixed[y];
+        uint rowMixed = row.x | row.y | row.z | row.w;
+        regionMixed |= rowMixed;
+        if (abs(y - regionTile.y) <= HALO_TILES_Y)
+            mixed |= row.y | row.z | (regionTile.x == 1 ? row.x : row.w);
+    }
     bool isSkipping = (gFlags & TS_FLAG_TILE_SKIPPING) != 0u;
     uint tileClass = TS_TILE_FILTERED;
     if (isSkipping && mixed != 3u)
@@ -178,9 +204,6 @@ void main()
 
     // 1. Local neighbourhood, horizontal part: weighted sums of the rows the group's columns need
     // (skipped when the whole region is uniform, so that no tile of the group is filtered).
-    uint regionMixed = 0u;
-    for (int i = 0; i < REGION_TILES; i++)
-        regionMixed |= sMixed[i];
     bool needsMoments = gDebugView == TS_DEBUG_LOCAL_MEAN || !isSkipping || regionMixed == 3u;
     if (needsMoments)
     {
@@ -293,18 +316,18 @@ void main()
             ivec2 origin = ivec2(floor(position));
             vec2 f = position - vec2(origin);
             resampling = f.x * (1.0 - f.x) + f.y * (1.0 - f.y);
-            vec4 wx = _TS_CatmullRomWeights(f.x), wy = _TS_CatmullRomWeights(f.y);
-            vec2 cubic = vec2(0.0); // History and temporal mean; samples and the local mean are smooth: bilinear.
-            vec4 bilinear = vec4(0.0);
-            bool isCubicValid = true;
-            // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from the block's first texel.
+            // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from the block's first texel; block b
+            // starts at origin - 1 + 2 (b & 1, b >> 1).
             const ivec2 offsets[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
+            // First the depths: which of the 16 texels hold this surface (bit 4 k.y + k.x), and the
+            // previous local mean of the inner 2x2 (the only texels whose local mean is read).
+            uint validBits = 0u;
+            vec4 innerLocalMean = vec4(0.0); // Inner texel (k.x - 1) + 2 (k.y - 1).
             for (int block = 0; block < 4; block++)
             {
                 ivec2 blockOrigin = origin + ivec2((block & 1) * 2 - 1, (block >> 1) * 2 - 1);
                 vec2 gatherUv = (vec2(blockOrigin) + 1.0) * gInvResourceSize;
                 uvec4 viewZs = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 0);
-                uvec4 histories = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 1);
                 for (int i = 0; i < 4; i++)
                 {
                     ivec2 texel = blockOrigin + offsets[i];
@@ -314,17 +337,35 @@ void main()
                     bool isInner = k.x >= 1 && k.x <= 2 && k.y >= 1 && k.y <= 2;
                     bool isValid = all(lessThan(uvec2(texel), gResourceSize)) && !_NRD_IsSky(viewZPrev) &&
                                    abs(viewZPrev - viewZPrevExpected) < tolerance * (isInner ? 1.0 : TS_OUTER_TOLERANCE);
-                    vec4 value = vec4(_TS_UnpackHistory(histories[i]), _TS_UnpackLocalMean(viewZs[i]));
+                    validBits |= isValid ? 1u << uint(4 * k.y + k.x) : 0u;
+                    if (isInner)
+                        innerLocalMean[(k.x - 1) + 2 * (k.y - 1)] = _TS_UnpackLocalMean(viewZs[i]);
+                }
+            }
+            // Then the histories, in the same order.
+            vec4 wx = _TS_CatmullRomWeights(f.x), wy = _TS_CatmullRomWeights(f.y);
+            vec2 cubic = vec2(0.0); // History and temporal mean; samples and the local mean are smooth: bilinear.
+            vec4 bilinear = vec4(0.0);
+            for (int block = 0; block < 4; block++)
+            {
+                ivec2 blockOrigin = origin + ivec2((block & 1) * 2 - 1, (block >> 1) * 2 - 1);
+                vec2 gatherUv = (vec2(blockOrigin) + 1.0) * gInvResourceSize;
+                uvec4 histories = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 1);
+                for (int i = 0; i < 4; i++)
+                {
+                    ivec2 k = blockOrigin + offsets[i] - origin + 1;
+                    bool isInner = k.x >= 1 && k.x <= 2 && k.y >= 1 && k.y <= 2;
+                    vec3 value = _TS_UnpackHistory(histories[i]);
                     cubic += wx[k.x] * wy[k.y] * value.xy;
-                    isCubicValid = isCubicValid && isValid;
-                    if (isValid && isInner)
+                    if (isInner && (validBits & (1u << uint(4 * k.y + k.x))) != 0u)
                     {
+                        vec4 texelValue = vec4(value, innerLocalMean[(k.x - 1) + 2 * (k.y - 1)]);
                         float w = (k.x == 1 ? 1.0 - f.x : f.x) * (k.y == 1 ? 1.0 - f.y : f.y);
-                        bilinear += w * value;
+                        bilinear += w * texelValue;
                         footprint += w;
                         // Likelihood of this frame's sample under the texel's temporal mean.
                         float likelihood = sample0 != 0.0 ? value.y : 1.0 - value.y;
-                        weighted += (w * likelihood) * value;
+                        weighted += (w * likelihood) * texelValue;
                         support += w * likelihood;
                         if (w > 0.01)
                         {
@@ -334,6 +375,7 @@ void main()
                     }
                 }
             }
+            bool isCubicValid = validBits == 0xFFFFu;
             history = bilinear;
             if (meanMin < TS_HARD_EDGE && meanMax > 1.0 - TS_HARD_EDGE && support > 1e-4)
             {
@@ -350,12 +392,11 @@ void main()
         // by camera motion). Only this direction: shown wrongly, a 0 on a lit surface costs about
         // 1 / 100 of what a 1 costs in an umbra, and a penumbra arriving on a lit surface is the
         // common false alarm.
+        uint near = NearWindow(local);
         bool isContradicted = false;
         if (sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint)
         {
-            int lit3x3 = 0;
-            for (int dy = -1; dy <= 1; dy++)
-                lit3x3 += bitCount((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 1)) & 7u);
+            int lit3x3 = bitCount(near & NEAR_3X3);
             int shadowedNeighbors = 8 - lit3x3; // The centre is shadowed.
             isContradicted = shadowedNeighbors >= (support < TS_CONTRADICTION * footprint ? 1 : TS_CONTRADICTION_WIDE_NEIGHBORS);
         }
@@ -373,10 +414,7 @@ void main()
         float halfWidth = mix(1.0, gHistoryClampSigma * sqrt(localVariance), clampAmount);
         // The box also reaches the mean of the 3x3 bits around the pixel: inside a shadow (or light)
         // that is uniform around the pixel, the wide neighbourhood's mean is biased.
-        int count = 0;
-        for (int dy = -TS_BOOST_RADIUS; dy <= TS_BOOST_RADIUS; dy++)
-            count += bitCount((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - TS_BOOST_RADIUS)) &
-                              ((1u << uint(2 * TS_BOOST_RADIUS + 1)) - 1u));
+        int count = bitCount(near & NEAR_3X3);
         ivec2 lo = max(pixel - TS_BOOST_RADIUS, ivec2(0)), hi = min(pixel + TS_BOOST_RADIUS, ivec2(gResourceSize) - 1);
         float nearMean = float(count) / float((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
         float boxMin = min(localMean - halfWidth, nearMean), boxMax = max(localMean + halfWidth, nearMean);
@@ -423,12 +461,7 @@ void main()
                           TS_RESAMPLING_ALPHA * resampling);
         // Under motion a pixel whose 5x5 bits all agree takes its sample: inside a sharp shadow (or
         // light) the sample is exact, and the resampled history is not.
-        uint agree = 0u;
-        for (int dy = -2; dy <= 2; dy++)
-        {
-            uint bits = (RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 2)) & 0x1Fu;
-            agree |= bits ^ (sample0 != 0.0 ? 0x1Fu : 0u);
-        }
+        uint agree = near ^ (sample0 != 0.0 ? NEAR_5X5 : 0u);
         // Also where the history contradicts such a uniform 5x5 window (a surface revealed next to
         // another one at the same depth, e.g. the two faces of a corner): it is someone else's.
         if (agree == 0u && (resampling > 0.02 || abs(history.x - sample0) > TS_NEAR_CONTRADICTION))

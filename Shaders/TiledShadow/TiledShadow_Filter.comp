@@ -1,5 +1,6 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 // TILED_SHADOW edge-avoiding a-trous pass (document 000, "Denoiser shadows filter"): 3x3 taps
 // TILED_SHADOW_STEP pixels apart with kernel weights 1 (centre) and 2/3 per axis, multiplied by
@@ -138,7 +139,9 @@ void main()
         // Samples of the group and its border.
         ivec2 regionOrigin = groupOrigin - BORDER;
         mat3 viewToWorld = mat3(gViewToWorld);
-        for (uint i = threadIndex; i < REGION * REGION; i += GROUP_SIZE * GROUP_SIZE)
+        // Kept as a loop: unrolled, the loads of every iteration would be in flight at once, which
+        // costs registers (occupancy) for the larger regions.
+        [[dont_unroll]] for (uint i = threadIndex; i < REGION * REGION; i += GROUP_SIZE * GROUP_SIZE)
         {
             ivec2 p = regionOrigin + ivec2(i % REGION, i / REGION);
             float z = 0.0;
