@@ -80,9 +80,9 @@ TEST_CASE("TILED_SHADOW meets the quality bar and the lag limit when a light swi
 TEST_CASE("TILED_SHADOW keeps its measured quality on moving scenes", "[quality]")
 {
     // Measured on lavapipe when written (relMSE ratio; instability as a fraction of the input's):
-    // moving_occluder 2.91x, 0.54; disocclusion 2.87x, 0.51; camera_translation 1.08x, 0.61;
-    // camera_rotation 1.23x, 0.76; moving_light 1.61x, 0.76. Floors sit below those; the bar is 3x
-    // and 0.5. FLIP is below the input's on all but moving_light (0.0183 against 0.0174).
+    // moving_occluder 2.92x, 0.54; disocclusion 2.87x, 0.51; camera_translation 1.19x, 0.60;
+    // camera_rotation 1.23x, 0.77; moving_light 1.79x, 0.75. Floors sit below those; the bar is 3x
+    // and 0.5. FLIP is below the input's on all but moving_light (0.0180 against 0.0174).
     struct Floor
     {
         const char* scene;
@@ -90,8 +90,8 @@ TEST_CASE("TILED_SHADOW keeps its measured quality on moving scenes", "[quality]
         bool isFlipBelowInput;
     };
     for (Floor f : {Floor{"moving_occluder", 2.7, true}, Floor{"disocclusion", 2.6, true},
-                    Floor{"camera_translation", 0.95, true}, Floor{"camera_rotation", 1.1, true},
-                    Floor{"moving_light", 1.4, false}})
+                    Floor{"camera_translation", 1.05, true}, Floor{"camera_rotation", 1.1, true},
+                    Floor{"moving_light", 1.6, false}})
     {
         INFO(f.scene);
         Measured m = Run(f.scene);

@@ -57,8 +57,8 @@
 // Longest history while the neighbourhood changes (fully at clampAmount 1).
 #define TS_CHANGING_HISTORY 4.0
 // A shadowed sample whose history gives it a likelihood below TS_CONTRADICTION, with a shadowed
-// neighbour, or below TS_CONTRADICTION_WIDE with TS_CONTRADICTION_WIDE_NEIGHBORS of the 8, is output
-// as it is (a shadow arrived).
+// neighbour, is output as it is (a shadow arrived); below TS_CONTRADICTION_WIDE with
+// TS_CONTRADICTION_WIDE_NEIGHBORS of the 8 neighbours shadowed, its history restarts.
 #define TS_CONTRADICTION 0.02
 #define TS_CONTRADICTION_WIDE 0.15
 #define TS_CONTRADICTION_WIDE_NEIGHBORS 4
@@ -388,19 +388,21 @@ void main()
                 history.xy = clamp(cubic, 0.0, 1.0);
         }
         // A shadowed sample that every texel of the history calls nearly impossible, next to another
-        // shadowed pixel (or unlikely, next to several): a shadow arrived (a moving occluder, a surface revealed or aliased into view
-        // by camera motion). Only this direction: shown wrongly, a 0 on a lit surface costs about
-        // 1 / 100 of what a 1 costs in an umbra, and a penumbra arriving on a lit surface is the
-        // common false alarm.
+        // shadowed pixel: a shadow arrived (a moving occluder, a surface revealed or aliased into
+        // view by camera motion); the sample is the output. Unlikely, next to several shadowed
+        // pixels: a soft shadow arrived; the history restarts (and the filter takes over). Only
+        // this direction: shown wrongly, a 0 on a lit surface costs about 1 / 100 of what a 1 costs
+        // in an umbra, and a penumbra arriving on a lit surface is the common false alarm.
         uint near = NearWindow(local);
-        bool isContradicted = false;
+        bool isContradicted = false, isRestarted = false;
         if (sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint)
         {
             int lit3x3 = bitCount(near & NEAR_3X3);
             int shadowedNeighbors = 8 - lit3x3; // The centre is shadowed.
-            isContradicted = shadowedNeighbors >= (support < TS_CONTRADICTION * footprint ? 1 : TS_CONTRADICTION_WIDE_NEIGHBORS);
+            isContradicted = support < TS_CONTRADICTION * footprint && shadowedNeighbors >= 1;
+            isRestarted = !isContradicted && shadowedNeighbors >= TS_CONTRADICTION_WIDE_NEIGHBORS;
         }
-        bool isDisoccluded = footprint < 0.01;
+        bool isDisoccluded = footprint < 0.01 || isRestarted;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
 
         // History clamped to the neighbourhood (moving shadows have no motion vectors), where the
