@@ -395,6 +395,47 @@ TEST_CASE("LagFrames returns 0 when the error never leaves and the frames left w
     CHECK(LagFrames(flat, 10, -1.0) == -1);
 }
 
+TEST_CASE("LagAfterSuddenChanges counts each change up to the next one and keeps the longest",
+          "[metrics][lag]")
+{
+    // 24 frames, warm-up 4 (reference changes 0.01 there). The reference jumps at frames 10 and 11
+    // (one change) and at 16 (a light back on). Steady error 0.1 over frames 4..9 (band 0.2).
+    std::vector<double> change(24, 0.01), error(24, 0.1);
+    change[10] = change[11] = 0.5;
+    change[16] = 0.5;
+    // First change: out of band on 10 and 11, back on 12: lag 2. The error of the frames between
+    // the changes stays in band, so the second change's recovery is not charged to the first.
+    error[10] = 1.0;
+    error[11] = 0.3;
+    // Second change: out of band on 16, 17, 18 (a dip on 17 does not count): lag 3.
+    error[16] = 0.9;
+    error[17] = 0.15;
+    error[18] = 0.25;
+    SuddenChangeLag lag = LagAfterSuddenChanges(error, change, 4);
+    CHECK(lag.frames == 3);
+    CHECK(lag.eventFrame == 16);
+
+    // The same curve with the first change slower (out of band until the second one): its window
+    // ends at frame 16, so its lag is 6 (16 - 10), the longest.
+    std::vector<double> slow = error;
+    for (size_t f = 12; f < 16; f++)
+        slow[f] = 0.5;
+    lag = LagAfterSuddenChanges(slow, change, 4);
+    CHECK(lag.frames == 6);
+    CHECK(lag.eventFrame == 10);
+
+    // Nothing sudden (every change within 4x of the warm-up's largest): no event.
+    std::vector<double> calm(24, 0.01);
+    calm[2] = 0.2;
+    calm[12] = 0.5;
+    lag = LagAfterSuddenChanges(error, calm, 4);
+    CHECK(lag.eventFrame == -1);
+    CHECK(lag.frames == 0);
+
+    // Mismatched sizes: no event.
+    CHECK(LagAfterSuddenChanges(error, std::vector<double>(23, 0.01), 4).eventFrame == -1);
+}
+
 TEST_CASE("EXR round trip is exact for float and within half precision for half", "[io][exr]")
 {
     TempDir dir;

@@ -666,4 +666,44 @@ int LagFrames(const std::vector<double>& errorPerFrame, size_t eventFrame, doubl
     return int(recovered - eventFrame);
 }
 
+SuddenChangeLag LagAfterSuddenChanges(const std::vector<double>& errorPerFrame,
+                                      const std::vector<double>& referenceChangePerFrame, size_t warmup)
+{
+    SuddenChangeLag result;
+    const size_t n = errorPerFrame.size();
+    if (referenceChangePerFrame.size() != n)
+        return result;
+    double calm = 1e-4;
+    for (size_t f = 1; f < warmup && f < n; f++)
+        calm = std::max(calm, referenceChangePerFrame[f]);
+    auto isSudden = [&](size_t f) { return referenceChangePerFrame[f] > 4.0 * calm; };
+    std::vector<size_t> events;
+    for (size_t f = std::max<size_t>(warmup, 1); f < n; f++)
+        if (isSudden(f) && !(f > std::max<size_t>(warmup, 1) && isSudden(f - 1)))
+            events.push_back(f);
+    if (events.empty())
+        return result;
+
+    double steady = 0.0;
+    size_t steadyNum = 0;
+    for (size_t f = warmup; f < events.front(); f++)
+    {
+        steady += errorPerFrame[f];
+        steadyNum++;
+    }
+    steady = steadyNum ? steady / double(steadyNum) : errorPerFrame.back();
+    for (size_t e = 0; e < events.size(); e++)
+    {
+        size_t end = e + 1 < events.size() ? events[e + 1] : n;
+        std::vector<double> window(errorPerFrame.begin(), errorPerFrame.begin() + ptrdiff_t(end));
+        int lag = LagFrames(window, events[e], steady);
+        if (result.eventFrame < 0 || lag > result.frames)
+        {
+            result.frames = lag;
+            result.eventFrame = int(events[e]);
+        }
+    }
+    return result;
+}
+
 } // namespace nrdlab

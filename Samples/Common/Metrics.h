@@ -106,4 +106,19 @@ double TemporalInstabilitySequence(const std::vector<Image>& testFrames,
 // past the end or steadyError is negative or non-finite.
 int LagFrames(const std::vector<double>& errorPerFrame, size_t eventFrame, double steadyError);
 
+// Lag after the sudden changes of a sequence's reference. A sudden change is a frame f >=
+// max(warmup, 1) whose referenceChangePerFrame[f] exceeds 4x the largest change of frames
+// 1 .. warmup - 1 (at least 1e-4); consecutive such frames are one change. For each change,
+// LagFrames against the mean error of the frames from the warm-up to the first change (the last
+// frame's error if there are none), counted up to the next change. 'frames' is the longest, and
+// 'eventFrame' its change; eventFrame -1 (frames 0) when nothing changes suddenly, or on mismatched
+// sizes.
+struct SuddenChangeLag
+{
+    int frames = 0;
+    int eventFrame = -1;
+};
+SuddenChangeLag LagAfterSuddenChanges(const std::vector<double>& errorPerFrame,
+                                      const std::vector<double>& referenceChangePerFrame, size_t warmup);
+
 } // namespace nrdlab

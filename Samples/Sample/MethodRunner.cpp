@@ -490,50 +490,13 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     report.renderNoisyMs /= report.frames;
     report.renderTruthMs /= report.frames;
 
-    // Lag: sudden changes of the truth after the warm-up (a frame-to-frame change 4x the largest
-    // seen during the warm-up; consecutive frames of change are one event). For each, the frames
-    // until the denoised error is back within 2x of its level before the first change, counted up
-    // to the next event (a light that switches off and on again is two events, each with its own
-    // lag). The report keeps the event with the longest lag.
-    double calm = 1e-4;
-    for (uint32_t f = 1; f < report.warmup; f++)
-        calm = std::max(calm, truthChange[f]);
-    std::vector<uint32_t> events;
-    for (uint32_t f = std::max(report.warmup, 1u); f < report.frames; f++)
-        if (truthChange[f] > 4.0 * calm && (events.empty() || !(truthChange[f - 1] > 4.0 * calm)))
-            events.push_back(f);
-    if (!events.empty())
-    {
-        std::vector<double> errors;
-        double steady = 0.0;
-        uint32_t steadyNum = 0;
-        for (uint32_t f = 0; f < report.frames; f++)
-        {
-            errors.push_back(report.perFrame[f].relmseDenoised);
-            if (f >= report.warmup && f < events.front())
-            {
-                steady += report.perFrame[f].relmseDenoised;
-                steadyNum++;
-            }
-        }
-        if (steadyNum == 0)
-        {
-            // No steady period before the change: use the level of the truth-aligned last frames.
-            steady = errors.back();
-            steadyNum = 1;
-        }
-        for (size_t e = 0; e < events.size(); e++)
-        {
-            size_t end = e + 1 < events.size() ? events[e + 1] : errors.size();
-            std::vector<double> window(errors.begin(), errors.begin() + end);
-            int32_t lag = LagFrames(window, events[e], steady / steadyNum);
-            if (report.lagEventFrame < 0 || lag > report.lagFrames)
-            {
-                report.lagFrames = lag;
-                report.lagEventFrame = int32_t(events[e]);
-            }
-        }
-    }
+    // Lag: per sudden change of the truth (a light switched, a jump), up to the next one.
+    std::vector<double> errors;
+    for (const FrameMetrics& m : report.perFrame)
+        errors.push_back(m.relmseDenoised);
+    SuddenChangeLag lag = LagAfterSuddenChanges(errors, truthChange, report.warmup);
+    report.lagFrames = lag.frames;
+    report.lagEventFrame = lag.eventFrame;
 
     report.validationMessages = vk.ValidationMessageCount();
     if (o.validation && report.validationMessages)
