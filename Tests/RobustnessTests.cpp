@@ -280,9 +280,10 @@ MethodTraits TraitsOf(Method method)
     case Method::TILED_SHADOW:
     {
         typedef TiledShadowSettings S;
-        // History that the neighbourhood clamp keeps (a penumbra) blends out at 5% per frame.
-        t.recoveryFrames = 40;
-        t.smallImageRecoveryFrames = 56;
+        // Measured: 8 to 10 frames (history that contradicts the signal restarts, a changing
+        // neighbourhood keeps at most 4 frames); documented with a margin.
+        t.recoveryFrames = 12;
+        t.smallImageRecoveryFrames = 16;
         t.applyDefaults = Apply(S{});
         t.discoveryVariants = {Edited<S>([](S& s) { s.isBitmaskInput = true; })};
         t.settingsCases = {
