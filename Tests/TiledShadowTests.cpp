@@ -24,6 +24,19 @@ namespace
 {
 
 constexpr Identifier TILED_ID = 4;
+
+// A denoiser with TILED_SHADOW alone at w x h.
+DenoiserCreationDesc TiledCreationDesc(uint32_t w, uint32_t h)
+{
+    static const MethodDesc methodDesc = {TILED_ID, Method::TILED_SHADOW};
+    DenoiserCreationDesc desc = {};
+    desc.methods = &methodDesc;
+    desc.methodsNum = 1;
+    desc.renderWidth = uint16_t(w);
+    desc.renderHeight = uint16_t(h);
+    return desc;
+}
+
 constexpr float kPlaneViewZ = 10.0f;
 constexpr float kSentinel = 2.0f; // Written into the output first; the denoiser writes [0, 1].
 
@@ -199,12 +212,7 @@ struct TiledShadowRig
     {
         width = w;
         height = h;
-        MethodDesc methodDesc = {TILED_ID, Method::TILED_SHADOW};
-        DenoiserCreationDesc desc = {};
-        desc.methods = &methodDesc;
-        desc.methodsNum = 1;
-        desc.renderWidth = uint16_t(w);
-        desc.renderHeight = uint16_t(h);
+        DenoiserCreationDesc desc = TiledCreationDesc(w, h);
         IntegrationCreationDesc integrationDesc = context.GetIntegrationCreationDesc();
         integrationDesc.name = "TILED_SHADOW test";
         REQUIRE(integration.Create(integrationDesc, desc) == VK_SUCCESS);
@@ -436,12 +444,7 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
 // the first a-trous dispatch of a core denoiser created like 'rig'.
 std::pair<uint16_t, uint16_t> FilterInputPoolIndices(uint32_t w, uint32_t h, const TiledShadowSettings& settings)
 {
-    MethodDesc methodDesc = {TILED_ID, Method::TILED_SHADOW};
-    DenoiserCreationDesc desc = {};
-    desc.methods = &methodDesc;
-    desc.methodsNum = 1;
-    desc.renderWidth = uint16_t(w);
-    desc.renderHeight = uint16_t(h);
+    DenoiserCreationDesc desc = TiledCreationDesc(w, h);
     Denoiser* denoiser = nullptr;
     REQUIRE(CreateDenoiser(desc, denoiser) == Result::SUCCESS);
     REQUIRE(SetMethodSettings(*denoiser, TILED_ID, settings) == Result::SUCCESS);
