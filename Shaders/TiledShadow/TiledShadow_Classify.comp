@@ -46,6 +46,9 @@
 // would wash sharp shadows out over a long history.
 #define TS_RESAMPLING_ALPHA 1.0
 // Depth tolerance of the outer ring of the 4x4 history footprint, relative to the inner 2x2's.
+#ifndef TS_MOTION_RESAMPLING
+#define TS_MOTION_RESAMPLING 0.02
+#endif
 #define TS_OUTER_TOLERANCE 1.5
 // History farther than this from the value of a uniform 5x5 window of bits is dropped.
 #define TS_NEAR_CONTRADICTION 0.25
@@ -53,13 +56,13 @@
 // straddles a hard shadow edge.
 #define TS_HARD_EDGE 0.05
 // Below this many samples the variance boost takes the spatial variance of the 3x3 bits as it is.
-#define TS_SPATIAL_BOOST_SAMPLES 8.0
+#define TS_SPATIAL_BOOST_SAMPLES 5.0
 // Longest history while the neighbourhood changes (fully at clampAmount 1).
 #define TS_CHANGING_HISTORY 4.0
 // A shadowed sample whose history gives it a likelihood below TS_CONTRADICTION, with a shadowed
 // neighbour, is output as it is (a shadow arrived); below TS_CONTRADICTION_WIDE with
 // TS_CONTRADICTION_WIDE_NEIGHBORS of the 8 neighbours shadowed, its history restarts.
-#define TS_CONTRADICTION 0.02
+#define TS_CONTRADICTION 0.0
 #define TS_CONTRADICTION_WIDE 0.15
 #define TS_CONTRADICTION_WIDE_NEIGHBORS 4
 // A neighbourhood whose running local mean was uniform (within this of 0 or 1) and moved by more
@@ -126,6 +129,23 @@ uint NearWindow(ivec2 local)
 #error "the near mean counts the 3x3 bits of NearWindow"
 #endif
 
+// #define TS_STRUCTURE
+#define TS_STRUCTURE_TURNS 4u
+// Ring transitions: a hard edge or a thin line crossing the 5x5 window changes value at most 4
+// times around each ring; binary noise rarely does.
+const int kInnerRing[8] = int[8](6, 7, 8, 13, 18, 17, 16, 11);
+const int kOuterRing[16] = int[16](0, 1, 2, 3, 4, 9, 14, 19, 24, 23, 22, 21, 20, 15, 10, 5);
+bool IsStructured(uint near)
+{
+    uint inner = 0u, outer = 0u;
+    for (int i = 0; i < 8; i++)
+        inner |= ((near >> uint(kInnerRing[i])) & 1u) << uint(i);
+    for (int i = 0; i < 16; i++)
+        outer |= ((near >> uint(kOuterRing[i])) & 1u) << uint(i);
+    uint innerTurns = bitCount((inner ^ ((inner >> 1) | (inner << 7))) & 0xFFu);
+    uint outerTurns = bitCount((outer ^ ((outer >> 1) | (outer << 15))) & 0xFFFFu);
+    return innerTurns <= TS_STRUCTURE_TURNS && outerTurns <= TS_STRUCTURE_TURNS;
+}
 // Sum over i in [-8, 8] of w(|i|) * bit(center + i) for the 17 bits of 'window' (center at bit 8):
 // nested windows of half-width k weighted by w(k) - w(k + 1), one popcount each.
 float WeightedRowSum(uint window)
@@ -432,7 +452,10 @@ void main()
         // the new neighbourhood's mean: worth a few samples, where restarting from one would take
         // many frames to settle in the penumbrae. Elsewhere (a moving shadow) it would trail.
         if (abs(localMean - history.w) > TS_GLOBAL_CHANGE && abs(history.w - 0.5) > 0.5 - TS_UNIFORM_BEFORE)
+        {
             previousSamples = max(previousSamples, min(history.z, TS_CLAMPED_SAMPLES));
+            previousLocalMean = localMean; // The change is over at once: no trailing clamp.
+        }
 
         // 3. Reprojection: running moments of the raw samples (their mean clamped like the history
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
@@ -451,6 +474,10 @@ void main()
         if (samples < 16.0)
         {
             float spatial = nearMean * (1.0 - nearMean);
+#ifdef TS_STRUCTURE
+            if (IsStructured(near))
+                spatial = 0.0;
+#endif
             if (samples >= TS_SPATIAL_BOOST_SAMPLES)
                 spatial = min(spatial, temporalMean * (1.0 - temporalMean));
             variance = max(variance, spatial) * max(16.0 - samples, 1.0);
@@ -473,9 +500,20 @@ void main()
         }
         result = mix(clamped, sample0, alpha);
 
+        // EXPERIMENT: under sub-pixel motion a shadowed sample outside a noisy pattern is output.
+        bool isMotionShadow = false;
+        if (sample0 == 0.0 && (resampling > TS_MOTION_RESAMPLING))
+        {
+            int zeros8 = 8 - bitCount(near & NEAR_3X3);
+            uint z = ~near;
+            bool isLine = ((z >> 11) & (z >> 13) & 1u) != 0u || ((z >> 7) & (z >> 17) & 1u) != 0u ||
+                          ((z >> 6) & (z >> 18) & 1u) != 0u || ((z >> 8) & (z >> 16) & 1u) != 0u;
+            isMotionShadow = !((zeros8 == 3 || zeros8 == 4) && !isLine);
+        }
+
         // A sample the history calls nearly impossible: the output is the sample (exact in hard
         // shadows), unfiltered, while the history keeps 'result'.
-        if (isContradicted && !isDisoccluded)
+        if ((isContradicted && !isDisoccluded) || isMotionShadow)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
