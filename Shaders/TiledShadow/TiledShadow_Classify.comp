@@ -57,6 +57,9 @@
 #define TS_HARD_EDGE 0.05
 // Below this many samples the variance boost takes the spatial variance of the 3x3 bits as it is.
 #define TS_SPATIAL_BOOST_SAMPLES 5.0
+#define TS_SPATIAL_BOOST_SAMPLES_MOTION 8.0
+#define TS_BOOST_SCALE 2.0
+#define TS_BETA_SCALE 1.0
 // Longest history while the neighbourhood changes (fully at clampAmount 1).
 #define TS_CHANGING_HISTORY 4.0
 // A shadowed sample whose history gives it a likelihood below TS_CONTRADICTION, with a shadowed
@@ -478,9 +481,15 @@ void main()
             if (IsStructured(near))
                 spatial = 0.0;
 #endif
-            if (samples >= TS_SPATIAL_BOOST_SAMPLES)
+            if (samples >= (resampling > TS_MOTION_RESAMPLING ? TS_SPATIAL_BOOST_SAMPLES_MOTION : TS_SPATIAL_BOOST_SAMPLES))
                 spatial = min(spatial, temporalMean * (1.0 - temporalMean));
-            variance = max(variance, spatial) * max(16.0 - samples, 1.0);
+            else if (samples >= 2.0 && resampling <= TS_MOTION_RESAMPLING)
+            {
+                float lit = temporalMean * samples;
+                float beta = (lit + 1.0) * (samples - lit + 1.0) / ((samples + 2.0) * (samples + 2.0) * (samples + 3.0));
+                spatial = min(spatial, TS_BETA_SCALE * beta);
+            }
+            variance = max(variance, spatial) * max(16.0 - samples, 1.0) * (resampling > TS_MOTION_RESAMPLING ? 1.0 : TS_BOOST_SCALE);
         }
 
         // Blend toward the current sample by history length, and by how much the resampling blurred
