@@ -45,27 +45,29 @@
 // position of the history sample): sub-pixel motion resamples the history every frame, which
 // would wash sharp shadows out over a long history.
 #define TS_RESAMPLING_ALPHA 1.0
-// Depth tolerance of the outer ring of the 4x4 history footprint, relative to the inner 2x2's.
-#ifndef TS_MOTION_RESAMPLING
+// Resampling blur above which the history counts as moved by a fraction of a pixel (camera or
+// object motion): blurred at sharp shadows, a short history of it is no evidence of a hard edge.
 #define TS_MOTION_RESAMPLING 0.02
-#endif
+// Depth tolerance of the outer ring of the 4x4 history footprint, relative to the inner 2x2's.
 #define TS_OUTER_TOLERANCE 1.5
+#define TS_STRUCTURE 0.6
 // History farther than this from the value of a uniform 5x5 window of bits is dropped.
 #define TS_NEAR_CONTRADICTION 0.25
 // A footprint holding a texel whose temporal mean is within this of 0 and one within this of 1
 // straddles a hard shadow edge.
 #define TS_HARD_EDGE 0.05
-// Below this many samples the variance boost takes the spatial variance of the 3x3 bits as it is.
+// Variance boost: below this many samples (more under sub-pixel motion) it starts from the spatial
+// variance of the 3x3 bits, at most the posterior variance of the samples' mean; then from one
+// sample's temporal variance. Without motion it is scaled by TS_BOOST_SCALE.
 #define TS_SPATIAL_BOOST_SAMPLES 5.0
 #define TS_SPATIAL_BOOST_SAMPLES_MOTION 8.0
 #define TS_BOOST_SCALE 2.0
-#define TS_BETA_SCALE 1.0
 // Longest history while the neighbourhood changes (fully at clampAmount 1).
 #define TS_CHANGING_HISTORY 4.0
-// A shadowed sample whose history gives it a likelihood below TS_CONTRADICTION, with a shadowed
-// neighbour, is output as it is (a shadow arrived); below TS_CONTRADICTION_WIDE with
-// TS_CONTRADICTION_WIDE_NEIGHBORS of the 8 neighbours shadowed, its history restarts.
-#define TS_CONTRADICTION 0.0
+// A shadowed sample whose history gives it a likelihood below TS_CONTRADICTION_WIDE, with
+// TS_CONTRADICTION_WIDE_NEIGHBORS of the 8 neighbours shadowed, restarts its history (a soft shadow
+// arrived).
+#define TS_CONTRADICTION 0.02
 #define TS_CONTRADICTION_WIDE 0.15
 #define TS_CONTRADICTION_WIDE_NEIGHBORS 4
 // A neighbourhood whose running local mean was uniform (within this of 0 or 1) and moved by more
@@ -132,23 +134,40 @@ uint NearWindow(ivec2 local)
 #error "the near mean counts the 3x3 bits of NearWindow"
 #endif
 
-// #define TS_STRUCTURE
-#define TS_STRUCTURE_TURNS 4u
-// Ring transitions: a hard edge or a thin line crossing the 5x5 window changes value at most 4
-// times around each ring; binary noise rarely does.
-const int kInnerRing[8] = int[8](6, 7, 8, 13, 18, 17, 16, 11);
-const int kOuterRing[16] = int[16](0, 1, 2, 3, 4, 9, 14, 19, 24, 23, 22, 21, 20, 15, 10, 5);
-bool IsStructured(uint near)
+// The 3x3 bits around a shadowed pixel that hold 3 or 4 other shadowed pixels, none of them
+// opposite another through the centre, look like penumbra noise; fewer, more, or a line through
+// the centre look like the sharp edge or thin shadow they are.
+bool IsNoisyPattern(uint near)
 {
-    uint inner = 0u, outer = 0u;
-    for (int i = 0; i < 8; i++)
-        inner |= ((near >> uint(kInnerRing[i])) & 1u) << uint(i);
-    for (int i = 0; i < 16; i++)
-        outer |= ((near >> uint(kOuterRing[i])) & 1u) << uint(i);
-    uint innerTurns = bitCount((inner ^ ((inner >> 1) | (inner << 7))) & 0xFFu);
-    uint outerTurns = bitCount((outer ^ ((outer >> 1) | (outer << 15))) & 0xFFFFu);
-    return innerTurns <= TS_STRUCTURE_TURNS && outerTurns <= TS_STRUCTURE_TURNS;
+    uint shadowed = ~near;
+    int count = 8 - bitCount(near & NEAR_3X3);
+    bool isLine = ((shadowed >> 11) & (shadowed >> 13) & 1u) != 0u || ((shadowed >> 7) & (shadowed >> 17) & 1u) != 0u ||
+                  ((shadowed >> 6) & (shadowed >> 18) & 1u) != 0u || ((shadowed >> 8) & (shadowed >> 16) & 1u) != 0u;
+    return (count == 3 || count == 4) && !isLine;
 }
+
+// Binary noise of mean m changes value between two adjacent pixels with probability 2 m (1 - m); a
+// sharp shadow edge or a thin shadow changes value along its outline only. Returns the changes
+// between the adjacent pixels of the 9x9 window around 'local' relative to what noise of the
+// window's mean would give (1 for noise, near 0 for an edge; 1 for a uniform window).
+float ChangesRelativeToNoise(ivec2 local)
+{
+    uint previous = 0u;
+    uint changes = 0u, lit = 0u;
+    for (int dy = -4; dy <= 4; dy++)
+    {
+        uint row = (RowWindow(local.y + RADIUS_MAX + dy, local.x) >> 4u) & 0x1FFu;
+        changes += bitCount((row ^ (row >> 1)) & 0xFFu);
+        if (dy > -4)
+            changes += bitCount(row ^ previous);
+        lit += bitCount(row);
+        previous = row;
+    }
+    float m = float(lit) / 81.0;
+    float expected = 144.0 * 2.0 * m * (1.0 - m);
+    return expected > 0.0 ? float(changes) / expected : 1.0;
+}
+
 // Sum over i in [-8, 8] of w(|i|) * bit(center + i) for the 17 bits of 'window' (center at bit 8):
 // nested windows of half-width k weighted by w(k) - w(k + 1), one popcount each.
 float WeightedRowSum(uint window)
@@ -410,21 +429,16 @@ void main()
             else if (isCubicValid) // Then the bilinear footprint is complete: 'footprint' is 1.
                 history.xy = clamp(cubic, 0.0, 1.0);
         }
-        // A shadowed sample that every texel of the history calls nearly impossible, next to another
-        // shadowed pixel: a shadow arrived (a moving occluder, a surface revealed or aliased into
-        // view by camera motion); the sample is the output. Unlikely, next to several shadowed
-        // pixels: a soft shadow arrived; the history restarts (and the filter takes over). Only
-        // this direction: shown wrongly, a 0 on a lit surface costs about 1 / 100 of what a 1 costs
-        // in an umbra, and a penumbra arriving on a lit surface is the common false alarm.
+        // A shadowed sample that the history calls unlikely, next to several shadowed pixels: a soft
+        // shadow arrived; the history restarts (and the filter takes over). Only this direction:
+        // shown wrongly, a 0 on a lit surface costs about 1 / 100 of what a 1 costs in an umbra, and
+        // a penumbra arriving on a lit surface is the common false alarm.
         uint near = NearWindow(local);
-        bool isContradicted = false, isRestarted = false;
-        if (sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint)
-        {
-            int lit3x3 = bitCount(near & NEAR_3X3);
-            int shadowedNeighbors = 8 - lit3x3; // The centre is shadowed.
-            isContradicted = support < TS_CONTRADICTION * footprint && shadowedNeighbors >= 1;
-            isRestarted = !isContradicted && shadowedNeighbors >= TS_CONTRADICTION_WIDE_NEIGHBORS;
-        }
+        bool isMoving = resampling > TS_MOTION_RESAMPLING;
+        int shadowedNeighbors = 8 - bitCount(near & NEAR_3X3);
+        bool isUnlikely = sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint;
+        bool isContradicted = isUnlikely && isMoving && support < TS_CONTRADICTION * footprint && shadowedNeighbors >= 1;
+        bool isRestarted = isUnlikely && !isContradicted && shadowedNeighbors >= TS_CONTRADICTION_WIDE_NEIGHBORS;
         bool isDisoccluded = footprint < 0.01 || isRestarted;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
 
@@ -471,25 +485,25 @@ void main()
 
         // Variance boost while few samples are known: a stronger spatial filter. On a short history
         // the temporal variance means little, and the spatial one of the 3x3 bits is taken (the
-        // 17x17 one is large next to a sharp edge, which would blur the edge); from
+        // 17x17 one is large next to a sharp edge, which would blur the edge). Without motion, 2 or
+        // more samples bound it by the posterior variance of their mean (uniform prior: Beta(k + 1,
+        // n - k + 1) for k lit of n): a thin shadow revealed a few frames ago, sampled the same
+        // every frame, keeps its shape while a noisy penumbra around it is still filtered. From
         // TS_SPATIAL_BOOST_SAMPLES on, no more than one sample's temporal variance: a hard edge
         // that stays put (variance 0) keeps its shape.
         if (samples < 16.0)
         {
             float spatial = nearMean * (1.0 - nearMean);
-#ifdef TS_STRUCTURE
-            if (IsStructured(near))
-                spatial = 0.0;
-#endif
-            if (samples >= (resampling > TS_MOTION_RESAMPLING ? TS_SPATIAL_BOOST_SAMPLES_MOTION : TS_SPATIAL_BOOST_SAMPLES))
+            if (samples >= (isMoving ? TS_SPATIAL_BOOST_SAMPLES_MOTION : TS_SPATIAL_BOOST_SAMPLES))
+            {
                 spatial = min(spatial, temporalMean * (1.0 - temporalMean));
-            else if (samples >= 2.0 && resampling <= TS_MOTION_RESAMPLING)
+            }
+            else if (samples >= 2.0 && !isMoving)
             {
                 float lit = temporalMean * samples;
-                float beta = (lit + 1.0) * (samples - lit + 1.0) / ((samples + 2.0) * (samples + 2.0) * (samples + 3.0));
-                spatial = min(spatial, TS_BETA_SCALE * beta);
+                spatial = min(spatial, (lit + 1.0) * (samples - lit + 1.0) / ((samples + 2.0) * (samples + 2.0) * (samples + 3.0)));
             }
-            variance = max(variance, spatial) * max(16.0 - samples, 1.0) * (resampling > TS_MOTION_RESAMPLING ? 1.0 : TS_BOOST_SCALE);
+            variance = max(variance, spatial) * max(16.0 - samples, 1.0) * (isMoving ? 1.0 : TS_BOOST_SCALE);
         }
 
         // Blend toward the current sample by history length, and by how much the resampling blurred
@@ -502,27 +516,18 @@ void main()
         uint agree = near ^ (sample0 != 0.0 ? NEAR_5X5 : 0u);
         // Also where the history contradicts such a uniform 5x5 window (a surface revealed next to
         // another one at the same depth, e.g. the two faces of a corner): it is someone else's.
-        if (agree == 0u && (resampling > 0.02 || abs(history.x - sample0) > TS_NEAR_CONTRADICTION))
+        if (agree == 0u && (isMoving || abs(history.x - sample0) > TS_NEAR_CONTRADICTION))
         {
             alpha = 1.0;
             samples = min(samples, 1.0);
         }
         result = mix(clamped, sample0, alpha);
 
-        // EXPERIMENT: under sub-pixel motion a shadowed sample outside a noisy pattern is output.
-        bool isMotionShadow = false;
-        if (sample0 == 0.0 && (resampling > TS_MOTION_RESAMPLING))
-        {
-            int zeros8 = 8 - bitCount(near & NEAR_3X3);
-            uint z = ~near;
-            bool isLine = ((z >> 11) & (z >> 13) & 1u) != 0u || ((z >> 7) & (z >> 17) & 1u) != 0u ||
-                          ((z >> 6) & (z >> 18) & 1u) != 0u || ((z >> 8) & (z >> 16) & 1u) != 0u;
-            isMotionShadow = !((zeros8 == 3 || zeros8 == 4) && !isLine);
-        }
-
-        // A sample the history calls nearly impossible: the output is the sample (exact in hard
-        // shadows), unfiltered, while the history keeps 'result'.
-        if ((isContradicted && !isDisoccluded) || isMotionShadow)
+        // Under sub-pixel motion a shadowed sample is output as it is, unfiltered, unless its 3x3
+        // bits look like penumbra noise (the history keeps 'result'). Outside a penumbra the sample
+        // is exact, while a history resampled every frame cannot hold a sharp or thin shadow
+        // still; there a light leak into the umbra would be the largest error in relative terms.
+        if ((isContradicted && !isDisoccluded) || (sample0 == 0.0 && isMoving && !IsNoisyPattern(near) && ChangesRelativeToNoise(local) < TS_STRUCTURE))
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 

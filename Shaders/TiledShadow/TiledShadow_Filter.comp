@@ -25,7 +25,6 @@
 // The shadow term's sigma shrinks toward dark values: sigma * (min(s, s') + b) / (1 + b). Next to a
 // value near 0 a small difference is a large relative error (a lit penumbra bleeding into umbra).
 #define TS_DARK_BIAS 1.0
-// #define TS_RELATIVE_OUTPUT 0.5
 #define LOG2_E 1.44269504
 #define LOG2_TWO_THIRDS -0.5849625
 
@@ -188,15 +187,7 @@ void main()
     if (!isSkyPixel)
     {
         if (gIsLastPass != 0u)
-        {
-#ifdef TS_RELATIVE_OUTPUT
-            float sigma = sqrt(max(resultVariance, 0.0)) * TS_RELATIVE_OUTPUT;
-            vec3 t = clamp(result + vec3(-1.7320508, 0.0, 1.7320508) * sigma, 0.0, 1.0);
-            vec3 w = vec3(1.0 / 6.0, 2.0 / 3.0, 1.0 / 6.0) / (t * t + 0.01);
-            result = dot(w, t) / (w.x + w.y + w.z);
-#endif
             imageStore(gOut_Final, pixel, vec4(clamp(result, 0.0, 1.0)));
-        }
         else
             imageStore(gOut_Shadow, pixel, vec4(result, resultVariance, 0.0, 0.0));
     }
