@@ -4,10 +4,10 @@
 // input's, temporal instability at most half the input's, lag at most 6 frames. The truth uses 64
 // samples per pixel here (lavapipe time); the frame cache makes reruns cheap.
 //
-// The still scenes and the light switch meet the bar and assert it. The moving ones do not yet
-// (camera motion aliases the thin, hard shadows of these scenes, and the history cannot follow
-// them): their test pins what is reached today, so that it can only improve; the numbers are
-// printed next to the bar.
+// The still scenes, the light switch and the moving shadows (moving occluder, disocclusion, moving
+// light) meet the bar and assert it. The moving-camera scenes do not yet (camera motion aliases
+// the thin, hard shadows of these scenes, and the history cannot follow them): their test pins
+// what is reached today, so that it can only improve; the numbers are printed next to the bar.
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
@@ -33,7 +33,7 @@ Measured Run(const char* scene)
     o.scene = scene;
     o.method = "TILED_SHADOW";
     o.width = o.height = 256;
-    o.frames = 32;
+    o.frames = 40; // 32 measured.
     o.warmup = 8;
     o.truthSpp = 64;
     o.keepImages = false;
@@ -77,27 +77,38 @@ TEST_CASE("TILED_SHADOW meets the quality bar and the lag limit when a light swi
     CHECK(m.lag <= 6);
 }
 
-TEST_CASE("TILED_SHADOW keeps its measured quality on moving scenes", "[quality]")
+TEST_CASE("TILED_SHADOW meets the quality bar on moving shadows", "[quality]")
+{
+    // The camera is still; the shadows move (an occluder flies, a panel slides and uncovers the
+    // background, the light circles). moving_occluder also has the lag limit.
+    for (const char* scene : {"moving_occluder", "disocclusion", "moving_light"})
+    {
+        INFO(scene);
+        Measured m = Run(scene);
+        CHECK(m.relmseRatio >= 3.0);
+        CHECK(m.flipDenoised < m.flipNoisy);
+        CHECK(m.instabilityDenoised <= 0.5 * m.instabilityNoisy);
+        if (std::string(scene) == "moving_occluder")
+            CHECK(m.lag <= 6);
+    }
+}
+
+TEST_CASE("TILED_SHADOW keeps its measured quality under camera motion", "[quality]")
 {
     // Measured on lavapipe when written (relMSE ratio; instability as a fraction of the input's):
-    // moving_occluder 2.92x, 0.54; disocclusion 2.87x, 0.51; camera_translation 1.19x, 0.60;
-    // camera_rotation 1.23x, 0.77; moving_light 1.79x, 0.75. Floors sit below those; the bar is 3x
-    // and 0.5. FLIP is below the input's on all but moving_light (0.0180 against 0.0174).
+    // camera_translation 1.84x, 0.63; camera_rotation 1.54x, 0.79. Floors sit below those; the bar
+    // is 3x and 0.5. FLIP is below the input's on both.
     struct Floor
     {
         const char* scene;
         double relmseRatio;
-        bool isFlipBelowInput;
     };
-    for (Floor f : {Floor{"moving_occluder", 2.7, true}, Floor{"disocclusion", 2.6, true},
-                    Floor{"camera_translation", 1.05, true}, Floor{"camera_rotation", 1.1, true},
-                    Floor{"moving_light", 1.6, false}})
+    for (Floor f : {Floor{"camera_translation", 1.7}, Floor{"camera_rotation", 1.4}})
     {
         INFO(f.scene);
         Measured m = Run(f.scene);
         CHECK(m.relmseRatio >= f.relmseRatio);
         CHECK(m.instabilityDenoised <= 0.85 * m.instabilityNoisy);
-        if (f.isFlipBelowInput)
-            CHECK(m.flipDenoised < m.flipNoisy);
+        CHECK(m.flipDenoised < m.flipNoisy);
     }
 }
