@@ -181,6 +181,16 @@ float WeightedRowSum(uint window)
     return sum;
 }
 
+// 'alpha * difference', at least TS_MIN_STEP (or all of the difference if smaller): the history is
+// stored as fp16 and 12-bit unorm, where a small step would round back to the old value and stall
+// a few thousandths short of a uniform signal.
+#define TS_MIN_STEP (1.0 / 1024.0)
+float StepToward(float difference, float alpha)
+{
+    float step = alpha * difference;
+    return abs(step) < TS_MIN_STEP ? sign(difference) * min(abs(difference), TS_MIN_STEP) : step;
+}
+
 // Catmull-Rom weights of the texels at -1, 0, 1, 2 around fraction 't'.
 vec4 _TS_CatmullRomWeights(float t)
 {
@@ -478,7 +488,7 @@ void main()
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
         float previousMean = clampAmount > 0.0 ? clamp(history.y, boxMin, boxMax) : history.y;
         samples = min(previousSamples + 1.0, mix(gMaxHistoryFrameNum, min(gMaxHistoryFrameNum, TS_CHANGING_HISTORY), clampAmount));
-        temporalMean = previousMean + (sample0 - previousMean) / samples;
+        temporalMean = previousMean + StepToward(sample0 - previousMean, 1.0 / samples);
         // The filter is handed the variance of the temporal estimate (of the mean of n samples), not
         // of one sample: a settled history needs little spatial filtering, and thin shadows survive.
         variance = samples > 1.0 ? temporalMean * (1.0 - temporalMean) / (samples - 1.0) : 0.0;
@@ -521,7 +531,7 @@ void main()
             alpha = 1.0;
             samples = min(samples, 1.0);
         }
-        result = mix(clamped, sample0, alpha);
+        result = clamped + StepToward(sample0 - clamped, alpha);
 
         // Under sub-pixel motion a shadowed sample is output as it is, unfiltered, unless its 3x3
         // bits look like penumbra noise (the history keeps 'result'). Outside a penumbra the sample
