@@ -419,7 +419,7 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
                             double NoN = std::max(nx[c] * nx[i] + ny[c] * ny[i] + nz[c] * nz[i], 0.0);
                             double pndcX = (px + 0.5) / w * 2.0 - 1.0, pndcY = (py + 0.5) / h * 2.0 - 1.0;
                             double plane = z[i] * (nx[c] * pndcX + ny[c] * pndcY + nz[c]) - z[c] * planeCenter;
-                            double darkness = 2.0 / (std::min(double(s[i * 2]), sc) + 1.0);
+                            double darkness = 2.0 / (sc + 1.0); // Sigma shrinks toward a dark centre.
                             double exponent = (dx != 0 ? std::log2(2.0 / 3.0) : 0.0) + (dy != 0 ? std::log2(2.0 / 3.0) : 0.0) -
                                               std::fabs(s[i * 2] - sc) * shadowScale * darkness - std::fabs(plane) * planeScale;
                             double weight = std::exp2(exponent) * std::pow(NoN, double(normalPower));

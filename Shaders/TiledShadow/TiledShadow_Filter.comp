@@ -5,7 +5,7 @@
 // TILED_SHADOW edge-avoiding a-trous pass (document 000, "Denoiser shadows filter"): 3x3 taps
 // TILED_SHADOW_STEP pixels apart with kernel weights 1 (centre) and 2/3 per axis, multiplied by
 //   exp(-|shadow - shadow'| / sigma)          sigma from the 3x3-filtered variance (at most twice
-//                                             the pixel's own sigma), smaller toward dark values,
+//                                             the pixel's own sigma), smaller toward a dark centre,
 //   exp(-|plane distance| / (s * viewZ))      distance of the tap to the centre's tangent plane,
 //   max(0, N.N')^normalPower.
 // The variance is filtered with the squared weights, so it shrinks pass after pass. Skipped tiles
@@ -22,8 +22,12 @@
 #define GROUP_TILES_Y 4
 #define BORDER TILED_SHADOW_STEP
 #define REGION (GROUP_SIZE + 2 * BORDER)
-// The shadow term's sigma shrinks toward dark values: sigma * (min(s, s') + b) / (1 + b). Next to a
-// value near 0 a small difference is a large relative error (a lit penumbra bleeding into umbra).
+// The shadow term's sigma shrinks toward a dark centre: sigma * (s + b) / (1 + b), s the centre's
+// value. A dark centre takes little from brighter neighbours (next to a value near 0 a small
+// difference is a large relative error: a lit penumbra bleeding into umbra); a bright centre
+// still takes from darker ones (a lit sample in a dark penumbra). With min(s, s') instead, both
+// directions were blocked: moving_light 3.5x, moving_occluder 3.5x, camera_translation 1.8x
+// against 4.8x, 4.6x and 2.1x.
 #define TS_DARK_BIAS 1.0
 #define LOG2_E 1.44269504
 #define LOG2_TWO_THIRDS -0.5849625
@@ -83,8 +87,8 @@ vec2 FilterTexel(int center, ivec2 pixel, bool isPower32)
             float NoN = max(N.x * geometry.x + N.y * geometry.y + N.z * geometry.z, 0.0);
             float plane = z * (planeCenter + float(dx) * planeStep.x + float(dy) * planeStep.y) - planeOffset;
             float kernel = (dx != 0 ? LOG2_TWO_THIRDS : 0.0) + (dy != 0 ? LOG2_TWO_THIRDS : 0.0);
-            // Dark values take less: relative to a small value a difference is a large error.
-            float darkness = (1.0 + TS_DARK_BIAS) / (min(shadow.x, shadowCenter.x) + TS_DARK_BIAS);
+            // A dark centre takes less: relative to a small value a difference is a large error.
+            float darkness = (1.0 + TS_DARK_BIAS) / (shadowCenter.x + TS_DARK_BIAS);
             float exponent = kernel - abs(shadow.x - shadowCenter.x) * shadowScale * darkness - abs(plane) * planeScale;
             float w;
             if (isPower32)
