@@ -96,19 +96,19 @@ TEST_CASE("TILED_SHADOW meets the quality bar on moving shadows", "[quality]")
 TEST_CASE("TILED_SHADOW keeps its measured quality under camera motion", "[quality]")
 {
     // Measured on lavapipe when written (relMSE ratio; instability as a fraction of the input's):
-    // camera_translation 1.84x, 0.63; camera_rotation 1.54x, 0.79. Floors sit below those; the bar
+    // camera_translation 2.10x, 0.61; camera_rotation 1.68x, 0.74. Floors sit below those; the bar
     // is 3x and 0.5. FLIP is below the input's on both.
     struct Floor
     {
         const char* scene;
         double relmseRatio;
     };
-    for (Floor f : {Floor{"camera_translation", 1.7}, Floor{"camera_rotation", 1.4}})
+    for (Floor f : {Floor{"camera_translation", 1.95}, Floor{"camera_rotation", 1.55}})
     {
         INFO(f.scene);
         Measured m = Run(f.scene);
         CHECK(m.relmseRatio >= f.relmseRatio);
-        CHECK(m.instabilityDenoised <= 0.85 * m.instabilityNoisy);
+        CHECK(m.instabilityDenoised <= 0.8 * m.instabilityNoisy);
         CHECK(m.flipDenoised < m.flipNoisy);
     }
 }
