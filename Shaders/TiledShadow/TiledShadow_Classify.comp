@@ -50,6 +50,8 @@
 #define TS_MOTION_RESAMPLING 0.02
 // Depth tolerance of the outer ring of the 4x4 history footprint, relative to the inner 2x2's.
 #define TS_OUTER_TOLERANCE 1.5
+// A 9x9 window whose adjacent pixels change value at least this often relative to binary noise of
+// its mean is a penumbra (see ChangesRelativeToNoise).
 #define TS_STRUCTURE 0.6
 // History farther than this from the value of a uniform 5x5 window of bits is dropped.
 #define TS_NEAR_CONTRADICTION 0.25
@@ -66,7 +68,8 @@
 #define TS_CHANGING_HISTORY 4.0
 // A shadowed sample whose history gives it a likelihood below TS_CONTRADICTION_WIDE, with
 // TS_CONTRADICTION_WIDE_NEIGHBORS of the 8 neighbours shadowed, restarts its history (a soft shadow
-// arrived).
+// arrived). Under sub-pixel motion, below TS_CONTRADICTION with a shadowed neighbour, it is output
+// as it is (a shadow aliased into view).
 #define TS_CONTRADICTION 0.02
 #define TS_CONTRADICTION_WIDE 0.15
 #define TS_CONTRADICTION_WIDE_NEIGHBORS 4
@@ -440,14 +443,16 @@ void main()
                 history.xy = clamp(cubic, 0.0, 1.0);
         }
         // A shadowed sample that the history calls unlikely, next to several shadowed pixels: a soft
-        // shadow arrived; the history restarts (and the filter takes over). Only this direction:
+        // shadow arrived; the history restarts (and the filter takes over). Under sub-pixel motion,
+        // nearly impossible next to another shadowed pixel: output as it is below. Only this direction:
         // shown wrongly, a 0 on a lit surface costs about 1 / 100 of what a 1 costs in an umbra, and
         // a penumbra arriving on a lit surface is the common false alarm.
         uint near = NearWindow(local);
         bool isMoving = resampling > TS_MOTION_RESAMPLING;
         int shadowedNeighbors = 8 - bitCount(near & NEAR_3X3);
         bool isUnlikely = sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint;
-        bool isContradicted = isUnlikely && isMoving && support < TS_CONTRADICTION * footprint && shadowedNeighbors >= 1;
+        bool isContradicted =
+            isUnlikely && isMoving && support < TS_CONTRADICTION * footprint && shadowedNeighbors >= 1;
         bool isRestarted = isUnlikely && !isContradicted && shadowedNeighbors >= TS_CONTRADICTION_WIDE_NEIGHBORS;
         bool isDisoccluded = footprint < 0.01 || isRestarted;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
@@ -511,7 +516,9 @@ void main()
             else if (samples >= 2.0 && !isMoving)
             {
                 float lit = temporalMean * samples;
-                spatial = min(spatial, (lit + 1.0) * (samples - lit + 1.0) / ((samples + 2.0) * (samples + 2.0) * (samples + 3.0)));
+                float posterior =
+                    (lit + 1.0) * (samples - lit + 1.0) / ((samples + 2.0) * (samples + 2.0) * (samples + 3.0));
+                spatial = min(spatial, posterior);
             }
             variance = max(variance, spatial) * max(16.0 - samples, 1.0) * (isMoving ? 1.0 : TS_BOOST_SCALE);
         }
@@ -533,11 +540,14 @@ void main()
         }
         result = clamped + StepToward(sample0 - clamped, alpha);
 
-        // Under sub-pixel motion a shadowed sample is output as it is, unfiltered, unless its 3x3
-        // bits look like penumbra noise (the history keeps 'result'). Outside a penumbra the sample
-        // is exact, while a history resampled every frame cannot hold a sharp or thin shadow
-        // still; there a light leak into the umbra would be the largest error in relative terms.
-        if ((isContradicted && !isDisoccluded) || (sample0 == 0.0 && isMoving && !IsNoisyPattern(near) && ChangesRelativeToNoise(local) < TS_STRUCTURE))
+        // Under sub-pixel motion a shadowed sample is output as it is, unfiltered, unless it looks
+        // like penumbra noise: its 3x3 bits, or the changes across its 9x9 window (the history keeps
+        // 'result'). Outside a penumbra the sample is exact, while a history resampled every frame
+        // cannot hold a sharp or thin shadow still; there a light leak into the umbra would be the
+        // largest error in relative terms.
+        bool isSharpShadow =
+            sample0 == 0.0 && isMoving && !IsNoisyPattern(near) && ChangesRelativeToNoise(local) < TS_STRUCTURE;
+        if ((isContradicted && !isDisoccluded) || isSharpShadow)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
