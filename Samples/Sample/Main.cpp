@@ -25,7 +25,7 @@ void PrintUsage()
                  "usage: nrd-sample --scene NAME|FILE.json --method METHOD|NONE [--frames N] [--size WxH]\n"
                  "                  [--truth-spp K] [--seed S] [--warmup W] [--device I] [--settings FILE.json]\n"
                  "                  [--out DIR] [--json FILE] [--signal shadow|diffuse|specular] [--validation]\n"
-                 "                  [--cache DIR|none] [--quiet]\n");
+                 "                  [--cache DIR|none] [--bounds] [--quiet]\n");
 }
 
 bool ParseUint(const char* s, uint32_t& out)
@@ -68,6 +68,8 @@ int main(int argc, char** argv)
             o.validation = true;
         else if (a == "--quiet")
             quiet = true;
+        else if (a == "--bounds")
+            o.bounds = true;
         else if (!value(v))
             return 2;
         else if (a == "--scene")
@@ -178,6 +180,9 @@ int main(int argc, char** argv)
     std::printf("%-24s %12.5f %12.5f   (truth %.5f)\n", "temporal instability", m.temporalInstabilityNoisy,
                 m.temporalInstabilityDenoised, m.temporalInstabilityTruth);
     std::printf("%-24s %12s %12d   (event frame %d)\n", "lag (frames)", "", r.lagFrames, r.lagEventFrame);
+    if (o.bounds)
+        std::printf("reuse bounds: reprojected truth relMSE %.5f; oracle relMSE %.5f, temporal instability %.5f\n",
+                    m.boundReprojectedTruth, m.boundOracle, m.boundOracleInstability);
     std::printf("GPU %.3f ms/frame, %u dispatches, %u pipelines, %.2f MiB device memory\n", r.gpuMsPerFrame,
                 r.dispatchesPerFrame, r.pipelines, double(r.memoryBytes) / (1024.0 * 1024.0));
     for (const auto& p : r.passMs)

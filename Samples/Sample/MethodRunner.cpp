@@ -2,6 +2,7 @@
 
 #include "Metrics.h"
 #include "NRDIntegration.h"
+#include "ReuseBounds.h"
 #include "SceneLab.h"
 #include "VulkanContext.h"
 
@@ -295,6 +296,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     }
 
     std::vector<Image> denoisedFrames, truthFrames, noisyFrames;
+    ReuseBounds bounds;
     std::vector<double> truthChange;
     std::map<std::string, double> passSum;
     uint32_t timedFrames = 0;
@@ -434,6 +436,13 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             report.perFrame.push_back(FrameMetrics{});
 
         FrameMetrics& m = report.perFrame.back();
+        if (o.bounds)
+        {
+            ReuseBoundsFrame b = bounds.Add(noisy, truth, frame.motion2d);
+            m.boundReprojectedTruth = b.reprojectedTruthRelmse;
+            m.boundOracle = b.oracleRelmse;
+            m.boundOracleInstability = b.oracleInstability;
+        }
         m.relmseNoisy = RelMSE(noisy, truth);
         m.relmseDenoised = RelMSE(denoised, truth);
         m.psnrNoisy = Psnr(noisy, truth);
@@ -484,6 +493,27 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         mean.temporalInstabilityTruth += m.temporalInstabilityTruth / n;
         mean.gpuMs += m.gpuMs / n;
     }
+    if (o.bounds)
+    {
+        // Means over the measured frames that have a value (the first frame has no previous one).
+        double* fields[3] = {&mean.boundReprojectedTruth, &mean.boundOracle, &mean.boundOracleInstability};
+        for (int k = 0; k < 3; k++)
+        {
+            double sum = 0.0;
+            uint32_t count = 0;
+            for (uint32_t f = report.warmup; f < report.frames; f++)
+            {
+                const FrameMetrics& m = report.perFrame[f];
+                double v = k == 0 ? m.boundReprojectedTruth : (k == 1 ? m.boundOracle : m.boundOracleInstability);
+                if (v >= 0.0)
+                {
+                    sum += v;
+                    count++;
+                }
+            }
+            *fields[k] = count ? sum / count : -1.0;
+        }
+    }
     report.gpuMsPerFrame = mean.gpuMs;
     for (auto& p : passSum)
         report.passMs.push_back({p.first, timedFrames ? p.second / timedFrames : 0.0});
@@ -522,6 +552,12 @@ std::string ReportToJson(const RunReport& r)
         j["temporal_instability_noisy"] = m.temporalInstabilityNoisy;
         j["temporal_instability_denoised"] = m.temporalInstabilityDenoised;
         j["temporal_instability_truth"] = m.temporalInstabilityTruth;
+        if (m.boundOracle >= 0.0)
+        {
+            j["bounds"]["reprojected_truth_relmse"] = m.boundReprojectedTruth;
+            j["bounds"]["oracle_relmse"] = m.boundOracle;
+            j["bounds"]["oracle_temporal_instability"] = m.boundOracleInstability;
+        }
         if (withLag)
         {
             j["lag_frames"] = rep.lagFrames;

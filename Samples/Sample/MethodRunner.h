@@ -27,6 +27,7 @@ struct RunOptions
     std::string settingsJson;       // (Optional) JSON text with "common", "sigma", "reference", "tiledShadow".
     std::string cacheDirectory;     // Scene-lab frame cache; empty: the default one; "none": off.
     bool keepImages = true;         // Keep the last frame's noisy / denoised / truth images in the report.
+    bool bounds = false;            // Also measure the temporal-reuse bounds of the scene (ReuseBounds.h).
     std::function<void(uint32_t frame, uint32_t frames)> progress; // (Optional)
 };
 
@@ -38,6 +39,8 @@ struct FrameMetrics
     double flipNoisy = 0, flipDenoised = 0;
     double temporalInstabilityNoisy = 0, temporalInstabilityDenoised = 0, temporalInstabilityTruth = 0;
     double gpuMs = 0;
+    // ReuseBounds.h (with RunOptions::bounds; -1 otherwise and where a frame has no previous one).
+    double boundReprojectedTruth = -1, boundOracle = -1, boundOracleInstability = -1;
 };
 
 struct RunReport

@@ -1,0 +1,122 @@
+// ReuseBounds.cpp - see ReuseBounds.h.
+#include "ReuseBounds.h"
+
+#include "Metrics.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace nrdlab
+{
+namespace
+{
+
+// Catmull-Rom weights of the texels at -1, 0, 1, 2 around fraction t.
+void CatmullRom(float t, float w[4])
+{
+    w[0] = t * (-0.5f + t * (1.0f - 0.5f * t));
+    w[1] = 1.0f + t * t * (-2.5f + 1.5f * t);
+    w[2] = t * (0.5f + t * (2.0f - 1.5f * t));
+    w[3] = t * t * (-0.5f + 0.5f * t);
+}
+
+// 'image' at the previous-frame position of pixel (x, y), or false where that position lies
+// outside the texel centres of the image (or the motion is not finite).
+bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, float* out)
+{
+    const float u = (float(x) + 0.5f) / float(image.width) + motion.at(x, y, 0);
+    const float v = (float(y) + 0.5f) / float(image.height) + motion.at(x, y, 1);
+    const float px = u * float(image.width) - 0.5f, py = v * float(image.height) - 0.5f;
+    if (!(px >= 0.0f && px <= float(image.width - 1) && py >= 0.0f && py <= float(image.height - 1))) // False for NaN.
+        return false;
+    const int w = int(image.width), h = int(image.height);
+    const int ox = std::min(int(px), std::max(w - 2, 0)), oy = std::min(int(py), std::max(h - 2, 0));
+    const float fx = px - float(ox), fy = py - float(oy);
+    const uint32_t x0 = uint32_t(ox), y0 = uint32_t(oy), x1 = uint32_t(std::min(ox + 1, w - 1)),
+                   y1 = uint32_t(std::min(oy + 1, h - 1));
+    const bool isCubic = ox >= 1 && oy >= 1 && ox + 2 < w && oy + 2 < h;
+    for (uint32_t c = 0; c < image.channels; c++)
+    {
+        if (isCubic)
+        {
+            float wx[4], wy[4];
+            CatmullRom(fx, wx);
+            CatmullRom(fy, wy);
+            float sum = 0.0f, lo = image.at(uint32_t(ox), uint32_t(oy), c), hi = lo;
+            for (int j = 0; j < 4; j++)
+            {
+                for (int i = 0; i < 4; i++)
+                {
+                    const float s = image.at(uint32_t(ox + i - 1), uint32_t(oy + j - 1), c);
+                    sum += wx[i] * wy[j] * s;
+                    lo = std::min(lo, s);
+                    hi = std::max(hi, s);
+                }
+            }
+            out[c] = std::min(std::max(sum, lo), hi); // No ringing beyond the footprint's range.
+        }
+        else
+        {
+            const float a = image.at(x0, y0, c), b = image.at(x1, y0, c);
+            const float d = image.at(x0, y1, c), e = image.at(x1, y1, c);
+            out[c] = (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (d * (1.0f - fx) + e * fx) * fy;
+        }
+    }
+    return true;
+}
+
+} // namespace
+
+ReuseBounds::ReuseBounds(float alpha, float exactEpsilon)
+    : m_Alpha(std::isfinite(alpha) ? std::min(std::max(alpha, 0.0f), 1.0f) : 1.0f),
+      m_ExactEpsilon(std::isfinite(exactEpsilon) ? std::max(exactEpsilon, 0.0f) : 0.0f)
+{
+}
+
+ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const Image& motion)
+{
+    ReuseBoundsFrame result;
+    if (!SameShape(noisy, truth) || !motion.isValid() || motion.channels < 2 || motion.width != truth.width ||
+        motion.height != truth.height)
+    {
+        m_TruthPrev = m_AccumulatedPrev = m_OraclePrev = Image();
+        return result;
+    }
+    const bool hasHistory = SameShape(m_TruthPrev, truth);
+    Image reprojected = truth, accumulated = noisy, oracle(truth.width, truth.height, truth.channels);
+    float value[4];
+    for (uint32_t y = 0; y < truth.height; y++)
+    {
+        for (uint32_t x = 0; x < truth.width; x++)
+        {
+            if (hasHistory && Resample(m_TruthPrev, motion, x, y, value))
+            {
+                for (uint32_t c = 0; c < truth.channels; c++)
+                    reprojected.at(x, y, c) = value[c];
+            }
+            if (hasHistory && Resample(m_AccumulatedPrev, motion, x, y, value))
+            {
+                for (uint32_t c = 0; c < truth.channels; c++)
+                    accumulated.at(x, y, c) = value[c] + m_Alpha * (noisy.at(x, y, c) - value[c]);
+            }
+            for (uint32_t c = 0; c < truth.channels; c++)
+            {
+                const float t = truth.at(x, y, c);
+                const bool isExact = std::fabs(t) <= m_ExactEpsilon || std::fabs(t - 1.0f) <= m_ExactEpsilon;
+                oracle.at(x, y, c) = isExact ? t : accumulated.at(x, y, c);
+            }
+        }
+    }
+    result.oracleRelmse = RelMSE(oracle, truth);
+    if (hasHistory)
+    {
+        result.reprojectedTruthRelmse = RelMSE(reprojected, truth);
+        result.oracleInstability = TemporalInstability(m_OraclePrev, oracle, m_TruthPrev, truth);
+    }
+    m_TruthPrev = truth;
+    m_AccumulatedPrev = accumulated;
+    m_OraclePrev = oracle;
+    return result;
+}
+
+} // namespace nrdlab

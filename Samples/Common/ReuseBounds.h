@@ -1,0 +1,46 @@
+// ReuseBounds.h - how far temporal reuse can go on a sequence, measured from its truth (CPU only).
+//
+// A denoiser that reprojects its history can do no better than the history allows. Two references
+// bracket what the scene itself permits, with the same exact motion vectors a denoiser gets:
+//  * reprojected truth: the previous frame's noise-free truth, resampled at this frame's
+//    reprojected positions (Catmull-Rom over the 4x4 texels, clamped to their range; bilinear
+//    where the 4x4 block leaves the image, the current truth where the position lies outside the
+//    texel centres). Where the
+//    signal holds features narrower than a pixel (hard shadow edges, one-pixel shadows) under
+//    sub-pixel motion, this is worse than a 1-spp input that is exact there.
+//  * oracle: a running mean (blend factor 'alpha') of the noisy input, resampled the same way,
+//    that is replaced by the truth wherever the truth is exactly 0 or 1 (within 'exactEpsilon'):
+//    what a temporal method reaches if it always knew which pixels its input already gets right.
+//    Meaningful for visibility signals in [0, 1] (shadows).
+// There is no disocclusion test: motion vectors that land on another surface count as valid, so
+// on scenes with disocclusions both references are pessimistic there.
+#pragma once
+
+#include "Image.h"
+
+namespace nrdlab
+{
+
+struct ReuseBoundsFrame
+{
+    double reprojectedTruthRelmse = -1.0; // -1 on the first frame (or after a size change).
+    double oracleRelmse = -1.0;
+    double oracleInstability = -1.0; // TemporalInstability of the oracle against the truth; -1 on the first frame.
+};
+
+class ReuseBounds
+{
+public:
+    explicit ReuseBounds(float alpha = 0.25f, float exactEpsilon = 0.02f);
+
+    // One frame: the noisy input and the truth (same shape, 1..4 channels) and the motion
+    // (>= 2 channels: uvPrev - uv, v down, the size of the image). Mismatched or invalid input
+    // returns all -1 and restarts the sequence.
+    ReuseBoundsFrame Add(const Image& noisy, const Image& truth, const Image& motion);
+
+private:
+    float m_Alpha, m_ExactEpsilon;
+    Image m_TruthPrev, m_AccumulatedPrev, m_OraclePrev;
+};
+
+} // namespace nrdlab
