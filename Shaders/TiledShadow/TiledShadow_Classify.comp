@@ -122,20 +122,43 @@ uint RowWindow(int row, int localX)
     return window >> uint(localX % TS_TILE_W);
 }
 
-// The 5x5 bits around the pixel at 'local': bit (dx + 2) + 5 (dy + 2) is pixel (dx, dy) away.
-uint NearWindow(ivec2 local)
-{
-    uint bits = 0u;
-    for (int dy = -2; dy <= 2; dy++)
-        bits |= ((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 2)) & 0x1Fu) << uint(5 * (dy + 2));
-    return bits;
-}
-// The 3x3 bits of the 5x5 window.
+// The 3x3 and 5x5 bits of NearWindow.
 #define NEAR_3X3 0x739C0u
 #define NEAR_5X5 0x1FFFFFFu
 #if TS_BOOST_RADIUS != 1
 #error "the near mean counts the 3x3 bits of NearWindow"
 #endif
+
+// In the layout of RowWindow: the bits of the 17 columns around 'localX' in sum row 'row' that are
+// pixels of the image.
+uint RowInImage(int row, int localX, ivec2 groupOrigin)
+{
+    int y = groupOrigin.y - RADIUS_MAX + row;
+    if (y < 0 || y >= int(gResourceSize.y))
+        return 0u;
+    int x0 = groupOrigin.x + localX - RADIUS_MAX; // Column of bit 0.
+    uint lo = uint(clamp(-x0, 0, 2 * RADIUS_MAX + 1));
+    uint hi = uint(clamp(int(gResourceSize.x) - x0, 0, 2 * RADIUS_MAX + 1));
+    return ((1u << hi) - 1u) & ~((1u << lo) - 1u);
+}
+
+// The 5x5 bits around the pixel at 'local': bit (dx + 2) + 5 (dy + 2) is pixel (dx, dy) away.
+// 'inImage' gets the same bits for the pixels inside the image (all set away from the borders).
+uint NearWindow(ivec2 local, ivec2 groupOrigin, bool isInterior, out uint inImage)
+{
+    uint bits = 0u;
+    inImage = NEAR_5X5;
+    for (int dy = -2; dy <= 2; dy++)
+        bits |= ((RowWindow(local.y + RADIUS_MAX + dy, local.x) >> uint(RADIUS_MAX - 2)) & 0x1Fu) << uint(5 * (dy + 2));
+    if (!isInterior)
+    {
+        inImage = 0u;
+        for (int dy = -2; dy <= 2; dy++)
+            inImage |= ((RowInImage(local.y + RADIUS_MAX + dy, local.x, groupOrigin) >> uint(RADIUS_MAX - 2)) & 0x1Fu)
+                       << uint(5 * (dy + 2));
+    }
+    return bits;
+}
 
 // The 3x3 bits around a shadowed pixel that hold 3 or 4 other shadowed pixels, none of them
 // opposite another through the centre, look like penumbra noise; fewer, more, or a line through
@@ -152,22 +175,27 @@ bool IsNoisyPattern(uint near)
 // Binary noise of mean m changes value between two adjacent pixels with probability 2 m (1 - m); a
 // sharp shadow edge or a thin shadow changes value along its outline only. Returns the changes
 // between the adjacent pixels of the 9x9 window around 'local' relative to what noise of the
-// window's mean would give (1 for noise, near 0 for an edge; 1 for a uniform window).
-float ChangesRelativeToNoise(ivec2 local)
+// window's mean would give (1 for noise, near 0 for an edge; 1 for a uniform window). Only pixels
+// and pairs inside the image count.
+float ChangesRelativeToNoise(ivec2 local, ivec2 groupOrigin, bool isInterior)
 {
-    uint previous = 0u;
-    uint changes = 0u, lit = 0u;
+    uint previous = 0u, previousIn = 0u;
+    uint changes = 0u, lit = 0u, pixels = 0u, pairs = 0u;
     for (int dy = -4; dy <= 4; dy++)
     {
-        uint row = (RowWindow(local.y + RADIUS_MAX + dy, local.x) >> 4u) & 0x1FFu;
-        changes += bitCount((row ^ (row >> 1)) & 0xFFu);
-        if (dy > -4)
-            changes += bitCount(row ^ previous);
-        lit += bitCount(row);
-        previous = row;
+        int row = local.y + RADIUS_MAX + dy;
+        uint bits = (RowWindow(row, local.x) >> 4u) & 0x1FFu;
+        uint inside = isInterior ? 0x1FFu : (RowInImage(row, local.x, groupOrigin) >> 4u) & 0x1FFu;
+        uint horizontal = inside & (inside >> 1) & 0xFFu;
+        changes += bitCount((bits ^ (bits >> 1)) & horizontal) + bitCount((bits ^ previous) & inside & previousIn);
+        pairs += bitCount(horizontal) + bitCount(inside & previousIn);
+        lit += bitCount(bits & inside);
+        pixels += bitCount(inside);
+        previous = bits;
+        previousIn = inside;
     }
-    float m = float(lit) / 81.0;
-    float expected = 144.0 * 2.0 * m * (1.0 - m);
+    float m = float(lit) / float(max(pixels, 1u));
+    float expected = float(pairs) * 2.0 * m * (1.0 - m);
     return expected > 0.0 ? float(changes) / expected : 1.0;
 }
 
@@ -447,8 +475,14 @@ void main()
         // nearly impossible next to another shadowed pixel: output as it is below. Only this direction:
         // shown wrongly, a 0 on a lit surface costs about 1 / 100 of what a 1 costs in an umbra, and
         // a penumbra arriving on a lit surface is the common false alarm.
-        uint near = NearWindow(local);
+        // Pixels outside the image count as the centre's value (a lit pixel on the border can agree
+        // with its window); the 3x3 mean counts the pixels inside only.
+        uint nearInImage;
+        uint near = NearWindow(local, groupOrigin, isInterior, nearInImage);
+        near = (near & nearInImage) | (sample0 != 0.0 ? ~nearInImage & NEAR_5X5 : 0u);
         bool isMoving = resampling > TS_MOTION_RESAMPLING;
+        // (For a shadowed sample, pixels outside the image count as shadowed neighbours: on the
+        // border a shadow arriving restarts the history as readily as inside.)
         int shadowedNeighbors = 8 - bitCount(near & NEAR_3X3);
         bool isUnlikely = sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint;
         bool isContradicted =
@@ -468,9 +502,7 @@ void main()
         float halfWidth = mix(1.0, gHistoryClampSigma * sqrt(localVariance), clampAmount);
         // The box also reaches the mean of the 3x3 bits around the pixel: inside a shadow (or light)
         // that is uniform around the pixel, the wide neighbourhood's mean is biased.
-        int count = bitCount(near & NEAR_3X3);
-        ivec2 lo = max(pixel - TS_BOOST_RADIUS, ivec2(0)), hi = min(pixel + TS_BOOST_RADIUS, ivec2(gResourceSize) - 1);
-        float nearMean = float(count) / float((hi.x - lo.x + 1) * (hi.y - lo.y + 1));
+        float nearMean = float(bitCount(near & nearInImage & NEAR_3X3)) / float(bitCount(nearInImage & NEAR_3X3));
         float boxMin = min(localMean - halfWidth, nearMean), boxMax = max(localMean + halfWidth, nearMean);
         float clamped = clamp(history.x, boxMin, boxMax);
         // The running mean follows faster after a large change (a light switched, the signal back).
@@ -546,7 +578,8 @@ void main()
         // cannot hold a sharp or thin shadow still; there a light leak into the umbra would be the
         // largest error in relative terms.
         bool isSharpShadow =
-            sample0 == 0.0 && isMoving && !IsNoisyPattern(near) && ChangesRelativeToNoise(local) < TS_STRUCTURE;
+            sample0 == 0.0 && isMoving && !IsNoisyPattern(near) &&
+            ChangesRelativeToNoise(local, groupOrigin, isInterior) < TS_STRUCTURE;
         if ((isContradicted && !isDisoccluded) || isSharpShadow)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
