@@ -110,6 +110,51 @@ TEST_CASE("ReuseBounds: a hard edge at half-pixel motion defeats the reprojected
     CHECK(b2.oracleInstability == 0.0);
 }
 
+TEST_CASE("ReuseBounds: surface ids keep a revealed background from reusing the foreground", "[reuse_bounds]")
+{
+    // 8x5: a foreground (id 1, truth and samples 0.75) covers x < 4 on frame 0 and moves two pixels
+    // left, to x < 2 on frame 1, over a still background (id 0, 0.25). Pixels 2 and 3 are revealed:
+    // their (zero) motion lands on the foreground's texels. Every position is a texel centre.
+    const uint32_t w = 8, h = 5;
+    auto frame = [&](uint32_t edge, float fg, float bg)
+    {
+        Image image(w, h, 1);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+                image.at(x, y, 0) = x < edge ? fg : bg;
+        return image;
+    };
+    Image truth0 = frame(4, 0.75f, 0.25f), truth1 = frame(2, 0.75f, 0.25f);
+    Image id0 = frame(4, 1.0f, 0.0f), id1 = frame(2, 1.0f, 0.0f);
+    Image motion0(w, h, 2), motion1(w, h, 2);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < 2; x++)
+            motion1.at(x, y, 0) = 2.0f / float(w); // uvPrev - uv: the foreground was 2 pixels to the right.
+
+    // Without ids the revealed pixels take the foreground: reprojected truth 0.75 against 0.25
+    // (0.25 / 0.0725 each), oracle 0.75 + 0.25 (0.25 - 0.75) = 0.625 (0.140625 / 0.0725 each); 2 of
+    // 8 pixels of every row.
+    ReuseBounds plain;
+    plain.Add(truth0, truth0, motion0);
+    ReuseBoundsFrame b = plain.Add(truth1, truth1, motion1);
+    CHECK(b.reprojectedTruthRelmse == Approx(0.25 / 0.0725 * 2.0 / 8.0).epsilon(1e-5));
+    CHECK(b.oracleRelmse == Approx(0.140625 / 0.0725 * 2.0 / 8.0).epsilon(1e-5));
+
+    // With ids they have no history: the current truth, and the oracle restarts from the sample;
+    // the foreground reprojects onto its own texels (bilinearly: its 4x4 blocks hold background).
+    ReuseBounds withIds;
+    withIds.Add(truth0, truth0, motion0, &id0);
+    ReuseBoundsFrame c = withIds.Add(truth1, truth1, motion1, &id1);
+    CHECK(c.reprojectedTruthRelmse == Approx(0.0).margin(1e-12));
+    CHECK(c.oracleRelmse == Approx(0.0).margin(1e-12));
+    CHECK(c.oracleInstability == Approx(0.0).margin(1e-12));
+
+    // Ids of another size are rejected and restart the sequence.
+    Image wrongSize(4, 5, 1);
+    CHECK(withIds.Add(truth1, truth1, motion1, &wrongSize).oracleRelmse == -1.0);
+    CHECK(withIds.Add(truth1, truth1, motion1, &id1).reprojectedTruthRelmse == -1.0);
+}
+
 TEST_CASE("ReuseBounds: mismatched input restarts the sequence", "[reuse_bounds]")
 {
     ReuseBounds bounds;

@@ -21,8 +21,10 @@ void CatmullRom(float t, float w[4])
 }
 
 // 'image' at the previous-frame position of pixel (x, y), or false where that position lies
-// outside the texel centres of the image (or the motion is not finite).
-bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, float* out)
+// outside the texel centres of the image (or the motion is not finite), or where no texel around it
+// holds the pixel's surface: 'idPrev' (may be null: every texel matches) against 'id'.
+bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, const Image* idPrev, float id,
+              float* out)
 {
     const float u = (float(x) + 0.5f) / float(image.width) + motion.at(x, y, 0);
     const float v = (float(y) + 0.5f) / float(image.height) + motion.at(x, y, 1);
@@ -32,16 +34,18 @@ bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, f
     const int w = int(image.width), h = int(image.height);
     const int ox = std::min(int(px), std::max(w - 2, 0)), oy = std::min(int(py), std::max(h - 2, 0));
     const float fx = px - float(ox), fy = py - float(oy);
-    const uint32_t x0 = uint32_t(ox), y0 = uint32_t(oy), x1 = uint32_t(std::min(ox + 1, w - 1)),
-                   y1 = uint32_t(std::min(oy + 1, h - 1));
-    const bool isCubic = ox >= 1 && oy >= 1 && ox + 2 < w && oy + 2 < h;
-    for (uint32_t c = 0; c < image.channels; c++)
+    auto matches = [&](int tx, int ty) { return !idPrev || idPrev->at(uint32_t(tx), uint32_t(ty), 0) == id; };
+    bool isCubic = ox >= 1 && oy >= 1 && ox + 2 < w && oy + 2 < h;
+    for (int j = -1; j <= 2 && isCubic; j++)
+        for (int i = -1; i <= 2 && isCubic; i++)
+            isCubic = matches(ox + i, oy + j);
+    if (isCubic)
     {
-        if (isCubic)
+        float wx[4], wy[4];
+        CatmullRom(fx, wx);
+        CatmullRom(fy, wy);
+        for (uint32_t c = 0; c < image.channels; c++)
         {
-            float wx[4], wy[4];
-            CatmullRom(fx, wx);
-            CatmullRom(fy, wy);
             float sum = 0.0f, lo = image.at(uint32_t(ox), uint32_t(oy), c), hi = lo;
             for (int j = 0; j < 4; j++)
             {
@@ -55,12 +59,26 @@ bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, f
             }
             out[c] = std::min(std::max(sum, lo), hi); // No ringing beyond the footprint's range.
         }
-        else
-        {
-            const float a = image.at(x0, y0, c), b = image.at(x1, y0, c);
-            const float d = image.at(x0, y1, c), e = image.at(x1, y1, c);
-            out[c] = (a * (1.0f - fx) + b * fx) * (1.0f - fy) + (d * (1.0f - fx) + e * fx) * fy;
-        }
+        return true;
+    }
+    // Bilinear over the texels of the pixel's surface.
+    const int x1 = std::min(ox + 1, w - 1), y1 = std::min(oy + 1, h - 1);
+    const int tx[4] = {ox, x1, ox, x1}, ty[4] = {oy, oy, y1, y1};
+    const float tw[4] = {(1.0f - fx) * (1.0f - fy), fx * (1.0f - fy), (1.0f - fx) * fy, fx * fy};
+    float weight[4], total = 0.0f;
+    for (int k = 0; k < 4; k++)
+    {
+        weight[k] = matches(tx[k], ty[k]) ? tw[k] : 0.0f;
+        total += weight[k];
+    }
+    if (!(total > 0.0f))
+        return false;
+    for (uint32_t c = 0; c < image.channels; c++)
+    {
+        float sum = 0.0f;
+        for (int k = 0; k < 4; k++)
+            sum += weight[k] * image.at(uint32_t(tx[k]), uint32_t(ty[k]), c);
+        out[c] = sum / total;
     }
     return true;
 }
@@ -73,28 +91,32 @@ ReuseBounds::ReuseBounds(float alpha, float exactEpsilon)
 {
 }
 
-ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const Image& motion)
+ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const Image& motion, const Image* surfaceId)
 {
     ReuseBoundsFrame result;
     if (!SameShape(noisy, truth) || !motion.isValid() || motion.channels < 2 || motion.width != truth.width ||
-        motion.height != truth.height)
+        motion.height != truth.height ||
+        (surfaceId && (!surfaceId->isValid() || surfaceId->width != truth.width || surfaceId->height != truth.height)))
     {
-        m_TruthPrev = m_AccumulatedPrev = m_OraclePrev = Image();
+        m_TruthPrev = m_AccumulatedPrev = m_OraclePrev = m_SurfaceIdPrev = Image();
         return result;
     }
-    const bool hasHistory = SameShape(m_TruthPrev, truth);
+    // Ids on both frames, or on neither.
+    const bool hasHistory = SameShape(m_TruthPrev, truth) && (surfaceId != nullptr) == m_SurfaceIdPrev.isValid();
+    const Image* idPrev = surfaceId ? &m_SurfaceIdPrev : nullptr;
     Image reprojected = truth, accumulated = noisy, oracle(truth.width, truth.height, truth.channels);
     float value[4];
     for (uint32_t y = 0; y < truth.height; y++)
     {
         for (uint32_t x = 0; x < truth.width; x++)
         {
-            if (hasHistory && Resample(m_TruthPrev, motion, x, y, value))
+            const float id = surfaceId ? surfaceId->at(x, y, 0) : 0.0f;
+            if (hasHistory && Resample(m_TruthPrev, motion, x, y, idPrev, id, value))
             {
                 for (uint32_t c = 0; c < truth.channels; c++)
                     reprojected.at(x, y, c) = value[c];
             }
-            if (hasHistory && Resample(m_AccumulatedPrev, motion, x, y, value))
+            if (hasHistory && Resample(m_AccumulatedPrev, motion, x, y, idPrev, id, value))
             {
                 for (uint32_t c = 0; c < truth.channels; c++)
                     accumulated.at(x, y, c) = value[c] + m_Alpha * (noisy.at(x, y, c) - value[c]);
@@ -116,6 +138,7 @@ ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const 
     m_TruthPrev = truth;
     m_AccumulatedPrev = accumulated;
     m_OraclePrev = oracle;
+    m_SurfaceIdPrev = surfaceId ? *surfaceId : Image();
     return result;
 }
 

@@ -11,9 +11,13 @@
 //  * oracle: a running mean (blend factor 'alpha') of the noisy input, resampled the same way,
 //    that is replaced by the truth wherever the truth is exactly 0 or 1 (within 'exactEpsilon'):
 //    what a temporal method reaches if it always knew which pixels its input already gets right.
-//    Meaningful for visibility signals in [0, 1] (shadows).
-// There is no disocclusion test: motion vectors that land on another surface count as valid, so
-// on scenes with disocclusions both references are pessimistic there.
+//    Meaningful for visibility signals in [0, 1] (shadows). The blend factor that suits a scene
+//    best depends on its motion: run several instances to find it.
+// Disocclusion: given a surface id per pixel (the scene lab's object index), previous texels with
+// another id than the pixel's are not reused: Catmull-Rom needs all 16 texels of the pixel's
+// surface, else the bilinear weights of the matching texels are renormalized; with none, the pixel
+// has no history (as outside the image). The scene lab's objects are convex, so there the id is
+// an exact disocclusion test. Without ids every texel counts as the same surface.
 #pragma once
 
 #include "Image.h"
@@ -33,14 +37,17 @@ class ReuseBounds
 public:
     explicit ReuseBounds(float alpha = 0.25f, float exactEpsilon = 0.02f);
 
-    // One frame: the noisy input and the truth (same shape, 1..4 channels) and the motion
-    // (>= 2 channels: uvPrev - uv, v down, the size of the image). Mismatched or invalid input
-    // returns all -1 and restarts the sequence.
-    ReuseBoundsFrame Add(const Image& noisy, const Image& truth, const Image& motion);
+    // One frame: the noisy input and the truth (same shape, 1..4 channels), the motion
+    // (>= 2 channels: uvPrev - uv, v down, the size of the image) and optionally a surface id
+    // (>= 1 channel, the size of the image; the first channel is read). Mismatched or invalid
+    // input returns all -1 and restarts the sequence.
+    ReuseBoundsFrame Add(const Image& noisy, const Image& truth, const Image& motion, const Image* surfaceId = nullptr);
+
+    float GetAlpha() const { return m_Alpha; }
 
 private:
     float m_Alpha, m_ExactEpsilon;
-    Image m_TruthPrev, m_AccumulatedPrev, m_OraclePrev;
+    Image m_TruthPrev, m_AccumulatedPrev, m_OraclePrev, m_SurfaceIdPrev;
 };
 
 } // namespace nrdlab

@@ -181,8 +181,14 @@ int main(int argc, char** argv)
                 m.temporalInstabilityDenoised, m.temporalInstabilityTruth);
     std::printf("%-24s %12s %12d   (event frame %d)\n", "lag (frames)", "", r.lagFrames, r.lagEventFrame);
     if (o.bounds)
+    {
         std::printf("reuse bounds: reprojected truth relMSE %.5f; oracle relMSE %.5f, temporal instability %.5f\n",
                     m.boundReprojectedTruth, m.boundOracle, m.boundOracleInstability);
+        std::printf("reuse bounds: oracle relMSE by blend factor:");
+        for (int k = 0; k < 3; k++)
+            std::printf(" %.2f: %.5f", double(nrdlab::kBoundAlphas[k]), m.boundOracleByAlpha[k]);
+        std::printf("\n");
+    }
     std::printf("GPU %.3f ms/frame, %u dispatches, %u pipelines, %.2f MiB device memory\n", r.gpuMsPerFrame,
                 r.dispatchesPerFrame, r.pipelines, double(r.memoryBytes) / (1024.0 * 1024.0));
     for (const auto& p : r.passMs)

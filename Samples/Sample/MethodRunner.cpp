@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <map>
 #include <memory>
@@ -296,7 +297,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     }
 
     std::vector<Image> denoisedFrames, truthFrames, noisyFrames;
-    ReuseBounds bounds;
+    ReuseBounds bounds[3] = {ReuseBounds(kBoundAlphas[0]), ReuseBounds(kBoundAlphas[1]), ReuseBounds(kBoundAlphas[2])};
     std::vector<double> truthChange;
     std::map<std::string, double> passSum;
     uint32_t timedFrames = 0;
@@ -438,10 +439,19 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         FrameMetrics& m = report.perFrame.back();
         if (o.bounds)
         {
-            ReuseBoundsFrame b = bounds.Add(noisy, truth, frame.motion2d);
-            m.boundReprojectedTruth = b.reprojectedTruthRelmse;
-            m.boundOracle = b.oracleRelmse;
-            m.boundOracleInstability = b.oracleInstability;
+            // The object index is an exact disocclusion test on the lab's convex objects.
+            const Image* surfaceId = frame.objectIndex.isValid() ? &frame.objectIndex : nullptr;
+            for (int k = 0; k < 3; k++)
+            {
+                ReuseBoundsFrame b = bounds[k].Add(noisy, truth, frame.motion2d, surfaceId);
+                m.boundOracleByAlpha[k] = b.oracleRelmse;
+                if (k == 1)
+                {
+                    m.boundReprojectedTruth = b.reprojectedTruthRelmse;
+                    m.boundOracle = b.oracleRelmse;
+                    m.boundOracleInstability = b.oracleInstability;
+                }
+            }
         }
         m.relmseNoisy = RelMSE(noisy, truth);
         m.relmseDenoised = RelMSE(denoised, truth);
@@ -496,15 +506,18 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     if (o.bounds)
     {
         // Means over the measured frames that have a value (the first frame has no previous one).
-        double* fields[3] = {&mean.boundReprojectedTruth, &mean.boundOracle, &mean.boundOracleInstability};
-        for (int k = 0; k < 3; k++)
+        double* fields[6] = {&mean.boundReprojectedTruth,  &mean.boundOracle,           &mean.boundOracleInstability,
+                             &mean.boundOracleByAlpha[0], &mean.boundOracleByAlpha[1], &mean.boundOracleByAlpha[2]};
+        for (int k = 0; k < 6; k++)
         {
             double sum = 0.0;
             uint32_t count = 0;
             for (uint32_t f = report.warmup; f < report.frames; f++)
             {
                 const FrameMetrics& m = report.perFrame[f];
-                double v = k == 0 ? m.boundReprojectedTruth : (k == 1 ? m.boundOracle : m.boundOracleInstability);
+                const double values[6] = {m.boundReprojectedTruth,  m.boundOracle,           m.boundOracleInstability,
+                                          m.boundOracleByAlpha[0], m.boundOracleByAlpha[1], m.boundOracleByAlpha[2]};
+                const double v = values[k];
                 if (v >= 0.0)
                 {
                     sum += v;
@@ -557,6 +570,12 @@ std::string ReportToJson(const RunReport& r)
             j["bounds"]["reprojected_truth_relmse"] = m.boundReprojectedTruth;
             j["bounds"]["oracle_relmse"] = m.boundOracle;
             j["bounds"]["oracle_temporal_instability"] = m.boundOracleInstability;
+            for (int k = 0; k < 3; k++)
+            {
+                char alpha[16];
+                std::snprintf(alpha, sizeof(alpha), "%.2f", double(kBoundAlphas[k]));
+                j["bounds"]["oracle_relmse_by_alpha"][alpha] = m.boundOracleByAlpha[k];
+            }
         }
         if (withLag)
         {

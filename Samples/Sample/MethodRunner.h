@@ -31,6 +31,9 @@ struct RunOptions
     std::function<void(uint32_t frame, uint32_t frames)> progress; // (Optional)
 };
 
+// Blend factors of the reuse bounds' oracle (the second is the one reported as 'oracle').
+constexpr float kBoundAlphas[3] = {0.15f, 0.25f, 0.35f};
+
 struct FrameMetrics
 {
     double relmseNoisy = 0, relmseDenoised = 0;
@@ -39,8 +42,10 @@ struct FrameMetrics
     double flipNoisy = 0, flipDenoised = 0;
     double temporalInstabilityNoisy = 0, temporalInstabilityDenoised = 0, temporalInstabilityTruth = 0;
     double gpuMs = 0;
-    // ReuseBounds.h (with RunOptions::bounds; -1 otherwise and where a frame has no previous one).
+    // ReuseBounds.h (with RunOptions::bounds; -1 otherwise and where a frame has no previous one):
+    // the oracle with blend factor 0.25, and with each of kBoundAlphas.
     double boundReprojectedTruth = -1, boundOracle = -1, boundOracleInstability = -1;
+    double boundOracleByAlpha[3] = {-1, -1, -1};
 };
 
 struct RunReport
