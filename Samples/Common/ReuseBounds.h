@@ -43,8 +43,6 @@ public:
     // input returns all -1 and restarts the sequence.
     ReuseBoundsFrame Add(const Image& noisy, const Image& truth, const Image& motion, const Image* surfaceId = nullptr);
 
-    float GetAlpha() const { return m_Alpha; }
-
 private:
     float m_Alpha, m_ExactEpsilon;
     Image m_TruthPrev, m_AccumulatedPrev, m_OraclePrev, m_SurfaceIdPrev;
