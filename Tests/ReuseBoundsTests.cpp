@@ -36,19 +36,27 @@ Image Motion(uint32_t width, uint32_t height, float pixels)
 
 TEST_CASE("ReuseBounds: a still sequence keeps its truth and accumulates its samples", "[reuse_bounds]")
 {
-    // Truth 0.5 everywhere, samples alternating 0 and 1 (the first frame 0), no motion.
-    ReuseBounds bounds(0.25f);
+    // Truth 0.5 everywhere, samples alternating 0 and 1 (the first frame 0), no motion; blend
+    // factors 0.25 (the reported oracle) and 0.5.
+    ReuseBounds bounds(std::vector<float>{0.25f, 0.5f});
     Image truth(4, 3, 1, 0.5f), motion(4, 3, 2);
-    float accumulated = 0.0f;
+    float accumulated = 0.0f, accumulatedHalf = 0.0f;
     for (int f = 0; f < 6; f++)
     {
         const float sample = float(f % 2);
         Image noisy(4, 3, 1, sample);
         ReuseBoundsFrame b = bounds.Add(noisy, truth, motion);
         if (f > 0)
+        {
             accumulated += 0.25f * (sample - accumulated);
+            accumulatedHalf += 0.5f * (sample - accumulatedHalf);
+        }
         const double expected = double(accumulated - 0.5f) * double(accumulated - 0.5f) / (0.25 + 0.01);
+        const double expectedHalf = double(accumulatedHalf - 0.5f) * double(accumulatedHalf - 0.5f) / (0.25 + 0.01);
         CHECK(b.oracleRelmse == Approx(expected).epsilon(1e-5));
+        REQUIRE(b.oracleRelmseByAlpha.size() == 2);
+        CHECK(b.oracleRelmseByAlpha[0] == b.oracleRelmse);
+        CHECK(b.oracleRelmseByAlpha[1] == Approx(expectedHalf).epsilon(1e-5));
         if (f == 0)
         {
             CHECK(b.reprojectedTruthRelmse == -1.0);

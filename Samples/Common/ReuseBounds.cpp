@@ -85,10 +85,17 @@ bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, c
 
 } // namespace
 
-ReuseBounds::ReuseBounds(float alpha, float exactEpsilon)
-    : m_Alpha(std::isfinite(alpha) ? std::min(std::max(alpha, 0.0f), 1.0f) : 1.0f),
-      m_ExactEpsilon(std::isfinite(exactEpsilon) ? std::max(exactEpsilon, 0.0f) : 0.0f)
+ReuseBounds::ReuseBounds(float alpha, float exactEpsilon) : ReuseBounds(std::vector<float>{alpha}, exactEpsilon)
 {
+}
+
+ReuseBounds::ReuseBounds(const std::vector<float>& alphas, float exactEpsilon)
+    : m_ExactEpsilon(std::isfinite(exactEpsilon) ? std::max(exactEpsilon, 0.0f) : 0.0f)
+{
+    for (float alpha : alphas)
+        m_Alphas.push_back(std::isfinite(alpha) ? std::min(std::max(alpha, 0.0f), 1.0f) : 1.0f);
+    if (m_Alphas.empty())
+        m_Alphas.push_back(0.25f);
 }
 
 ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const Image& motion, const Image* surfaceId)
@@ -98,13 +105,16 @@ ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const 
         motion.height != truth.height ||
         (surfaceId && (!surfaceId->isValid() || surfaceId->width != truth.width || surfaceId->height != truth.height)))
     {
-        m_TruthPrev = m_AccumulatedPrev = m_OraclePrev = m_SurfaceIdPrev = Image();
+        m_TruthPrev = m_OraclePrev = m_SurfaceIdPrev = Image();
+        m_AccumulatedPrev.clear();
         return result;
     }
     // Ids on both frames, or on neither.
     const bool hasHistory = SameShape(m_TruthPrev, truth) && (surfaceId != nullptr) == m_SurfaceIdPrev.isValid();
     const Image* idPrev = surfaceId ? &m_SurfaceIdPrev : nullptr;
-    Image reprojected = truth, accumulated = noisy, oracle(truth.width, truth.height, truth.channels);
+    const size_t oracles = m_Alphas.size();
+    Image reprojected = truth;
+    std::vector<Image> accumulated(oracles, noisy);
     float value[4];
     for (uint32_t y = 0; y < truth.height; y++)
     {
@@ -116,28 +126,40 @@ ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const 
                 for (uint32_t c = 0; c < truth.channels; c++)
                     reprojected.at(x, y, c) = value[c];
             }
-            if (hasHistory && Resample(m_AccumulatedPrev, motion, x, y, idPrev, id, value))
+            for (size_t k = 0; k < oracles && hasHistory; k++)
             {
-                for (uint32_t c = 0; c < truth.channels; c++)
-                    accumulated.at(x, y, c) = value[c] + m_Alpha * (noisy.at(x, y, c) - value[c]);
-            }
-            for (uint32_t c = 0; c < truth.channels; c++)
-            {
-                const float t = truth.at(x, y, c);
-                const bool isExact = std::fabs(t) <= m_ExactEpsilon || std::fabs(t - 1.0f) <= m_ExactEpsilon;
-                oracle.at(x, y, c) = isExact ? t : accumulated.at(x, y, c);
+                if (Resample(m_AccumulatedPrev[k], motion, x, y, idPrev, id, value))
+                {
+                    for (uint32_t c = 0; c < truth.channels; c++)
+                        accumulated[k].at(x, y, c) = value[c] + m_Alphas[k] * (noisy.at(x, y, c) - value[c]);
+                }
             }
         }
     }
-    result.oracleRelmse = RelMSE(oracle, truth);
+    // The oracle: the truth where it is exactly 0 or 1, the running mean elsewhere.
+    Image oracle;
+    for (size_t k = 0; k < oracles; k++)
+    {
+        Image o = accumulated[k];
+        for (size_t i = 0; i < o.pixels.size(); i++)
+        {
+            const float t = truth.pixels[i];
+            if (std::fabs(t) <= m_ExactEpsilon || std::fabs(t - 1.0f) <= m_ExactEpsilon)
+                o.pixels[i] = t;
+        }
+        result.oracleRelmseByAlpha.push_back(RelMSE(o, truth));
+        if (k == 0)
+            oracle = std::move(o);
+    }
+    result.oracleRelmse = result.oracleRelmseByAlpha[0];
     if (hasHistory)
     {
         result.reprojectedTruthRelmse = RelMSE(reprojected, truth);
         result.oracleInstability = TemporalInstability(m_OraclePrev, oracle, m_TruthPrev, truth);
     }
     m_TruthPrev = truth;
-    m_AccumulatedPrev = accumulated;
-    m_OraclePrev = oracle;
+    m_AccumulatedPrev = std::move(accumulated);
+    m_OraclePrev = std::move(oracle);
     m_SurfaceIdPrev = surfaceId ? *surfaceId : Image();
     return result;
 }

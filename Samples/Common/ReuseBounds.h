@@ -12,7 +12,8 @@
 //    that is replaced by the truth wherever the truth is exactly 0 or 1 (within 'exactEpsilon'):
 //    what a temporal method reaches if it always knew which pixels its input already gets right.
 //    Meaningful for visibility signals in [0, 1] (shadows). The blend factor that suits a scene
-//    best depends on its motion: run several instances to find it.
+//    best depends on its motion: several can be measured at once (the reprojected truth is
+//    computed once for all of them).
 // Disocclusion: given a surface id per pixel (the scene lab's object index), previous texels with
 // another id than the pixel's are not reused: Catmull-Rom needs all 16 texels of the pixel's
 // surface, else the bilinear weights of the matching texels are renormalized; with none, the pixel
@@ -22,20 +23,25 @@
 
 #include "Image.h"
 
+#include <vector>
+
 namespace nrdlab
 {
 
 struct ReuseBoundsFrame
 {
     double reprojectedTruthRelmse = -1.0; // -1 on the first frame (or after a size change).
-    double oracleRelmse = -1.0;
-    double oracleInstability = -1.0; // TemporalInstability of the oracle against the truth; -1 on the first frame.
+    double oracleRelmse = -1.0;      // With the first blend factor.
+    double oracleInstability = -1.0; // TemporalInstability of that oracle against the truth; -1 on the first frame.
+    std::vector<double> oracleRelmseByAlpha; // One per blend factor (empty after invalid input).
 };
 
 class ReuseBounds
 {
 public:
     explicit ReuseBounds(float alpha = 0.25f, float exactEpsilon = 0.02f);
+    // Oracles with each of 'alphas' (at least one: an empty list measures 0.25).
+    explicit ReuseBounds(const std::vector<float>& alphas, float exactEpsilon = 0.02f);
 
     // One frame: the noisy input and the truth (same shape, 1..4 channels), the motion
     // (>= 2 channels: uvPrev - uv, v down, the size of the image) and optionally a surface id
@@ -44,8 +50,10 @@ public:
     ReuseBoundsFrame Add(const Image& noisy, const Image& truth, const Image& motion, const Image* surfaceId = nullptr);
 
 private:
-    float m_Alpha, m_ExactEpsilon;
-    Image m_TruthPrev, m_AccumulatedPrev, m_OraclePrev, m_SurfaceIdPrev;
+    std::vector<float> m_Alphas;
+    float m_ExactEpsilon;
+    std::vector<Image> m_AccumulatedPrev; // One per blend factor.
+    Image m_TruthPrev, m_OraclePrev, m_SurfaceIdPrev;
 };
 
 } // namespace nrdlab
