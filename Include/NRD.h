@@ -21,6 +21,9 @@
 #  else
 #    define NRD_API extern "C++" __declspec(dllimport)
 #  endif
+#elif defined(__GNUC__) || defined(__clang__)
+// The core is compiled with hidden visibility: only NRD_API functions leave libNRD.so.
+#  define NRD_API extern "C++" __attribute__((visibility("default")))
 #else
 #  define NRD_API extern "C++"
 #endif
