@@ -416,6 +416,8 @@ bool Compile(const std::string& path, const std::string& source, bool isHlsl, st
     std::string command = std::string("\"") + NRD_GLSLANG + "\" -V --target-env vulkan1.1 -S comp " +
                           (isHlsl ? "-D -e main " : "") + "-I\"" + NRD_SOURCE_DIR + "/Shaders/Include\" -o \"" + spv +
                           "\" \"" + path + "\" > \"" + output + "\" 2>&1";
+    // glslang and the shell run without the sanitizer runtime a sanitized test build preloads.
+    unsetenv("LD_PRELOAD");
     int rc = std::system(command.c_str());
     log = ReadText(output);
     std::string bytes = ReadText(spv);
