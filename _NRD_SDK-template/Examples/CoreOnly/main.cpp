@@ -6,8 +6,8 @@
 //   - dispatches: the resources match the pipeline's ranges in binding order, pool indices exist,
 //     constants are exactly the pipeline's block, the grid covers at least one group;
 //   - barriers: one per hazard (read after write, write after read, write after write), counted.
-// Two SIGMA_SHADOW instances (two lights) and one REFERENCE in one denoiser; frames limited to
-// some identifiers. Exit code 0 when every description is consistent.
+// Every method of the library and a second SIGMA_SHADOW (two lights) in one denoiser; frames of
+// all methods, of one identifier, and at a lower dynamic resolution. Exit code 0 when every description is consistent.
 #include <NRD.h>
 
 #include <cstdio>
@@ -166,13 +166,15 @@ int main()
                 library.supportedMethodsNum);
     Check(library.versionMajor == NRD_VERSION_MAJOR && library.versionMinor == NRD_VERSION_MINOR, "version", "library");
 
-    const nrd::Identifier kLight0 = 10, kLight1 = 11, kReference = 20;
-    nrd::MethodDesc methods[] = {{kLight0, nrd::Method::SIGMA_SHADOW},
-                                 {kLight1, nrd::Method::SIGMA_SHADOW},
-                                 {kReference, nrd::Method::REFERENCE}};
+    // Every method of the library once (identifier = its enum value), plus a second SIGMA_SHADOW: two lights.
+    const nrd::Identifier kLight0 = uint32_t(nrd::Method::SIGMA_SHADOW), kLight1 = 100;
+    std::vector<nrd::MethodDesc> methods;
+    for (uint32_t m = 0; m < library.supportedMethodsNum; m++)
+        methods.push_back({uint32_t(library.supportedMethods[m]), library.supportedMethods[m]});
+    methods.push_back({kLight1, nrd::Method::SIGMA_SHADOW});
     nrd::DenoiserCreationDesc creation = {};
-    creation.methods = methods;
-    creation.methodsNum = 3;
+    creation.methods = methods.data();
+    creation.methodsNum = uint32_t(methods.size());
     creation.renderWidth = 1920;
     creation.renderHeight = 1080;
     creation.logCallback = Log;
