@@ -4,6 +4,7 @@
 #define NRD_COMMON_FRAME_GLSL
 
 #include "Common.glsl"
+#include "Reprojection.glsl"
 
 bool _NRD_IsSky(float viewZ) { return !_NRD_IsFinite(viewZ) || abs(viewZ) > gDenoisingRange || viewZ <= 0.0; }
 
@@ -40,6 +41,9 @@ vec2 _NRD_PreviousUv(vec2 uv, vec3 worldPos, vec3 mv, out vec3 worldPosPrev)
 
 // Previous viewZ of a world position (for comparison with the previous viewZ texture).
 float _NRD_PreviousViewZ(vec3 worldPosPrev) { return (gWorldToViewPrev * vec4(worldPosPrev, 1.0)).z * gViewZSign; }
+
+// World-space camera position of the current frame.
+vec3 _NRD_CameraPosition() { return gViewToWorld[3].xyz; }
 
 bool _NRD_IsInScreen(vec2 uv) { return all(greaterThanEqual(uv, vec2(0.0))) && all(lessThan(uv, vec2(1.0))); }
 

@@ -55,12 +55,8 @@ SIGMA_TYPE LoadHistory(ivec2 pixel)
 // out and the rest renormalized. Clamped to [0, 1] against ringing.
 SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
 {
-    vec2 w0 = f * (-0.5 + f * (1.0 - 0.5 * f));
-    vec2 w1 = 1.0 + f * f * (-2.5 + 1.5 * f);
-    vec2 w2 = f * (0.5 + f * (2.0 - 1.5 * f));
-    vec2 w3 = f * f * (-0.5 + 0.5 * f);
-    float wx[4] = float[4](w0.x, w1.x, w2.x, w3.x);
-    float wy[4] = float[4](w0.y, w1.y, w2.y, w3.y);
+    vec4 wx = _NRD_CatmullRomWeights(f.x);
+    vec4 wy = _NRD_CatmullRomWeights(f.y);
     ivec2 maxPixel = ivec2(gResourceSize) - 1;
     SIGMA_TYPE sum = SIGMA_TYPE(0.0);
     float weightSum = 0.0;
@@ -192,8 +188,7 @@ void main()
     // Disocclusion tolerance: relative depth, plus the depth change across the one pixel that
     // separates a bilinear tap from the reprojected point on a surface seen at a grazing angle.
     float NoV = abs(dot(Nv, normalize(Xv)));
-    float tanTheta = min(sqrt(max(1.0 - NoV * NoV, 0.0)) / max(NoV, 0.05), 5.0);
-    float tolerance = gDisocclusionThreshold * abs(expectedViewZ) + viewZ / gProjectY * tanTheta;
+    float tolerance = _NRD_DisocclusionTolerance(viewZ, expectedViewZ, NoV, gDisocclusionThreshold, gProjectY);
 
     // Bilinear footprint with per-tap disocclusion test.
     vec2 footprint = uvPrev * vec2(gResourceSize) - 0.5;

@@ -222,13 +222,6 @@ float StepToward(float difference, float alpha)
     return abs(step) < TS_MIN_STEP ? sign(difference) * min(abs(difference), TS_MIN_STEP) : step;
 }
 
-// Catmull-Rom weights of the texels at -1, 0, 1, 2 around fraction 't'.
-vec4 _TS_CatmullRomWeights(float t)
-{
-    return vec4(t * (-0.5 + t * (1.0 - 0.5 * t)), 1.0 + t * t * (-2.5 + 1.5 * t), t * (0.5 + t * (2.0 - 1.5 * t)),
-                t * t * (-0.5 + 0.5 * t));
-}
-
 void main()
 {
     uint threadIndex = gl_LocalInvocationIndex;
@@ -426,7 +419,7 @@ void main()
                 }
             }
             // Then the histories, in the same order.
-            vec4 wx = _TS_CatmullRomWeights(f.x), wy = _TS_CatmullRomWeights(f.y);
+            vec4 wx = _NRD_CatmullRomWeights(f.x), wy = _NRD_CatmullRomWeights(f.y);
             vec2 cubic = vec2(0.0); // History and temporal mean; samples and the local mean are smooth: bilinear.
             vec4 bilinear = vec4(0.0);
             for (int block = 0; block < 4; block++)

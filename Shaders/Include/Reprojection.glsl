@@ -1,0 +1,215 @@
+// History reprojection shared by the radiance denoisers (REBLUR, RELAX) and the shadow methods:
+// bilinear footprint, Catmull-Rom weights, per-tap disocclusion by plane distance, history fetches,
+// virtual motion of specular reflections from hit-distance parallax, history length storage.
+//
+// The math takes everything it needs as arguments (no pass constants), so it can be evaluated
+// anywhere and compared with a CPU evaluation (Tests/ReprojectionTests.cpp). The history fetches
+// use gNearestClamp: include Bindings.glsl (or declare it) first.
+#ifndef NRD_REPROJECTION_GLSL
+#define NRD_REPROJECTION_GLSL
+
+#include "Common.glsl"
+
+//==================================================================================================
+// Footprint and weights.
+//==================================================================================================
+
+// Bilinear footprint of 'uv' in a texture of 'size' texels: texel 'origin' and the one right, below
+// and diagonal of it, with fraction 'f' in [0, 1).
+struct NrdFootprint
+{
+    ivec2 origin;
+    vec2 f;
+};
+
+NrdFootprint _NRD_Footprint(vec2 uv, vec2 size)
+{
+    vec2 p = uv * size - 0.5;
+    vec2 o = floor(p);
+    NrdFootprint footprint;
+    footprint.origin = ivec2(clamp(o, vec2(-65536.0), vec2(65536.0)));
+    footprint.f = p - o;
+    return footprint;
+}
+
+// Bilinear weights of the taps origin + (0, 0), (1, 0), (0, 1), (1, 1), in this order.
+vec4 _NRD_BilinearWeights(vec2 f)
+{
+    return vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+}
+
+// Catmull-Rom weights of the texels at -1, 0, 1, 2 around fraction 't' (they sum to 1).
+vec4 _NRD_CatmullRomWeights(float t)
+{
+    return vec4(t * (-0.5 + t * (1.0 - 0.5 * t)), 1.0 + t * t * (-2.5 + 1.5 * t), t * (0.5 + t * (2.0 - 1.5 * t)),
+                t * t * (-0.5 + 0.5 * t));
+}
+
+//==================================================================================================
+// Disocclusion.
+//==================================================================================================
+
+// Largest |previous viewZ - expected viewZ| of a tap that still holds the same surface: a relative
+// part ('threshold' of the depth) plus the depth change over the one pixel that separates a tap
+// from the reprojected point on a surface seen at a grazing angle. 'NoV' = |N.V| of the surface,
+// 'projectY' = pixels per unit of size / viewZ (CommonConstants.h, gProjectY).
+float _NRD_DisocclusionTolerance(float viewZ, float expectedViewZ, float NoV, float threshold, float projectY)
+{
+    float tanTheta = min(sqrt(max(1.0 - NoV * NoV, 0.0)) / max(NoV, 0.05), 5.0);
+    return threshold * abs(expectedViewZ) + abs(viewZ) / max(projectY, NRD_EPS) * tanTheta;
+}
+
+// 1 per bilinear tap (order of _NRD_BilinearWeights) that lies inside [0, size) and whose previous
+// viewZ is within 'tolerance' of the expected one, else 0. NaN viewZ never matches.
+vec4 _NRD_TapValidity(ivec2 origin, ivec2 size, vec4 prevViewZ, float expectedViewZ, float tolerance)
+{
+    vec4 valid = vec4(lessThanEqual(abs(prevViewZ - expectedViewZ), vec4(tolerance)));
+    ivec4 x = origin.xxxx + ivec4(0, 1, 0, 1);
+    ivec4 y = origin.yyyy + ivec4(0, 0, 1, 1);
+    valid *= vec4(greaterThanEqual(x, ivec4(0))) * vec4(lessThan(x, ivec4(size.x)));
+    valid *= vec4(greaterThanEqual(y, ivec4(0))) * vec4(lessThan(y, ivec4(size.y)));
+    return valid;
+}
+
+// Reprojection of one pixel: validity-masked bilinear weights (not renormalized), their sum (the
+// part of the footprint on the same surface, 0 = disoccluded) and whether Catmull-Rom resampling
+// may be used (the whole bilinear footprint is valid; its outer taps are clamped to the image).
+struct NrdReprojection
+{
+    NrdFootprint footprint;
+    vec4 weights;
+    float footprintWeight;
+    bool isCatmullRomAllowed;
+};
+
+NrdReprojection _NRD_Reprojection(vec2 uvPrev, ivec2 size, vec4 prevViewZ, float expectedViewZ, float tolerance)
+{
+    // A non-finite uv (bad motion) lands off screen, where no tap is valid.
+    bool isFinite = !any(isnan(uvPrev)) && !any(isinf(uvPrev));
+    NrdReprojection r;
+    r.footprint = _NRD_Footprint(isFinite ? uvPrev : vec2(-1.0), vec2(size));
+    vec4 valid = _NRD_TapValidity(r.footprint.origin, size, prevViewZ, expectedViewZ, tolerance);
+    r.weights = _NRD_BilinearWeights(r.footprint.f) * valid;
+    r.footprintWeight = dot(r.weights, vec4(1.0));
+    r.isCatmullRomAllowed = all(greaterThan(valid, vec4(0.5)));
+    return r;
+}
+
+//==================================================================================================
+// History fetches (texelFetch through gNearestClamp; previous textures hold garbage where history
+// is invalid, so taps are sanitized before weighting).
+//==================================================================================================
+
+// .x of the four footprint taps (texels outside the image read as NaN: never valid).
+vec4 _NRD_GatherFootprint(texture2D t, ivec2 origin, ivec2 size)
+{
+    vec4 v;
+    for (int k = 0; k < 4; k++)
+    {
+        ivec2 q = origin + ivec2(k & 1, k >> 1);
+        bool isInside = all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size));
+        v[k] = isInside ? texelFetch(sampler2D(t, gNearestClamp), q, 0).x : uintBitsToFloat(0x7FC00000u);
+    }
+    return v;
+}
+
+// Weighted bilinear history with the reprojection's masked weights, renormalized (0 if none).
+vec4 _NRD_BilinearHistory(texture2D history, NrdReprojection r)
+{
+    vec4 sum = vec4(0.0);
+    for (int k = 0; k < 4; k++)
+    {
+        if (r.weights[k] > 0.0)
+            sum += _NRD_Sanitize(texelFetch(sampler2D(history, gNearestClamp), r.footprint.origin + ivec2(k & 1, k >> 1), 0),
+                                 0.0) * r.weights[k];
+    }
+    return r.footprintWeight > 0.0 ? sum / r.footprintWeight : vec4(0.0);
+}
+
+// Catmull-Rom history over the 4x4 texels around the footprint, the 4 corners (tiny weights) left
+// out and the rest renormalized; taps outside the image are clamped to it. Can ring: clamp the
+// result to the range the signal allows.
+vec4 _NRD_CatmullRomHistory(texture2D history, NrdFootprint footprint, ivec2 size)
+{
+    vec4 wx = _NRD_CatmullRomWeights(footprint.f.x);
+    vec4 wy = _NRD_CatmullRomWeights(footprint.f.y);
+    vec4 sum = vec4(0.0);
+    float weightSum = 0.0;
+    for (int j = 0; j < 4; j++)
+    {
+        for (int i = 0; i < 4; i++)
+        {
+            if ((i == 0 || i == 3) && (j == 0 || j == 3))
+                continue;
+            float w = wx[i] * wy[j];
+            ivec2 q = clamp(footprint.origin + ivec2(i - 1, j - 1), ivec2(0), size - 1);
+            sum += _NRD_Sanitize(texelFetch(sampler2D(history, gNearestClamp), q, 0), 0.0) * w;
+            weightSum += w;
+        }
+    }
+    return sum / weightSum;
+}
+
+//==================================================================================================
+// Specular virtual motion (hit-distance parallax).
+//
+// A mirror shows the hit point at its virtual image, 'hitDist' behind the surface along the view
+// ray; under camera motion the reflection moves with that image, not with the surface. Glossy
+// lobes sit between the two: the dominant direction of a GGX lobe turns from the mirror direction
+// towards the normal as roughness grows, and so does the apparent position of the reflection.
+//==================================================================================================
+
+// Virtual world position of the reflection seen at surface point 'X' from camera 'cameraPos'.
+vec3 _NRD_VirtualWorldPosition(vec3 X, vec3 cameraPos, float hitDist)
+{
+    vec3 V = X - cameraPos;
+    float len = length(V);
+    return len > NRD_EPS ? X + V * (max(hitDist, 0.0) / len) : X;
+}
+
+// How much of the reflection follows the virtual image, 1 for a mirror, towards 0 for rough
+// lobes (the dominant-direction factor of GGX, smoothness * (sqrt(smoothness) + roughness)).
+float _NRD_SpecularDominantFactor(float linearRoughness)
+{
+    float r = clamp(linearRoughness, 0.0, 1.0);
+    float s = 1.0 - r;
+    return s * (sqrt(s) + r);
+}
+
+// Previous uv of a position through a previous world -> clip matrix; (-1, -1) behind the camera.
+vec2 _NRD_ProjectPrev(vec3 worldPosPrev, mat4 worldToClipPrev)
+{
+    vec4 clip = worldToClipPrev * vec4(worldPosPrev, 1.0);
+    if (!(clip.w > NRD_EPS))
+        return vec2(-1.0);
+    return (clip.xy / clip.w) * 0.5 + 0.5;
+}
+
+// Previous uv of the reflection of surface point 'X' (moved by 'surfaceMotion' in world space since
+// the previous frame): the virtual image is carried along with the surface and seen through the
+// previous camera. 'hitDist' is the world-space hit distance, scaled by the dominant factor.
+vec2 _NRD_VirtualPreviousUv(vec3 X, vec3 surfaceMotion, vec3 cameraPos, float hitDist, float linearRoughness,
+                            mat4 worldToClipPrev)
+{
+    vec3 Xvirtual = _NRD_VirtualWorldPosition(X, cameraPos, hitDist * _NRD_SpecularDominantFactor(linearRoughness));
+    return _NRD_ProjectPrev(Xvirtual + surfaceMotion, worldToClipPrev);
+}
+
+// Parallax of the reflection between the frames in pixels: how far apart the surface and the
+// virtual reprojections land (0 without camera motion or for hitDist 0). Large parallax means the
+// surface history shows another part of the reflection.
+float _NRD_ParallaxInPixels(vec2 uvPrevSurface, vec2 uvPrevVirtual, vec2 size)
+{
+    return length((uvPrevVirtual - uvPrevSurface) * size);
+}
+
+//==================================================================================================
+// History length storage: a length in [0, maxLength] in a UNORM8 channel (REBLUR, RELAX).
+//==================================================================================================
+
+#define NRD_HISTORY_LENGTH_MAX 255.0
+
+float _NRD_PackHistoryLength(float n) { return clamp(n, 0.0, NRD_HISTORY_LENGTH_MAX) / NRD_HISTORY_LENGTH_MAX; }
+float _NRD_UnpackHistoryLength(float packed) { return floor(_NRD_Sanitize(packed, 0.0) * NRD_HISTORY_LENGTH_MAX + 0.5); }
+
+#endif
