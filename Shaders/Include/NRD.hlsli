@@ -39,6 +39,55 @@ float4 NRD_FrontEnd_UnpackNormalAndRoughness(float4 p)
 }
 
 //==================================================================================================
+// Radiance + hit distance front end (REBLUR, RELAX), see NRD.glsl. hitDistParams = (A, B, C, D) =
+// nrd::HitDistanceParameters; normalization f = (A + |viewZ| * B) * lerp(1, C, saturate(exp2(D * roughness^2))).
+//==================================================================================================
+
+float _NRD_GetHitDistNormalization(float viewZ, float4 hitDistParams, float roughness)
+{
+    float z = abs(_NRD_Sanitize(viewZ, 0.0));
+    float r = clamp(_NRD_Sanitize(roughness, 1.0), 0.0, 1.0);
+    return (hitDistParams.x + z * hitDistParams.y) * lerp(1.0, hitDistParams.z, clamp(exp2(hitDistParams.w * r * r), 0.0, 1.0));
+}
+
+// Normalized hit distance in [0, 1]; NaN or negative hitDist counts as 0, +Inf / NRD_FP16_MAX as a miss (1).
+float REBLUR_FrontEnd_GetNormHitDist(float hitDist, float viewZ, float4 hitDistParams, float roughness)
+{
+    float d = isnan(hitDist) ? 0.0 : max(hitDist, 0.0);
+    float f = _NRD_GetHitDistNormalization(viewZ, hitDistParams, roughness);
+    return d >= NRD_FP16_MAX ? 1.0 : clamp(d / f, 0.0, 1.0);
+}
+
+// IN_DIFF_RADIANCE_HITDIST / IN_SPEC_RADIANCE_HITDIST texel; 'sanitize' clears NaN / Inf first.
+float4 REBLUR_FrontEnd_PackRadianceAndNormHitDist(float3 radiance, float normHitDist, bool sanitize)
+{
+    if (sanitize)
+    {
+        radiance = _NRD_Sanitize(radiance, 0.0);
+        normHitDist = _NRD_Sanitize(normHitDist, 0.0);
+    }
+    return float4(clamp(radiance, 0.0, NRD_FP16_MAX), clamp(normHitDist, 0.0, 1.0));
+}
+
+// OUT_DIFF_RADIANCE_HITDIST / OUT_SPEC_RADIANCE_HITDIST texel -> .rgb radiance (>= 0), .w normHitDist.
+float4 REBLUR_BackEnd_UnpackRadianceAndNormHitDist(float4 data)
+{
+    return float4(max(_NRD_Sanitize(data.xyz, 0.0), 0.0), clamp(_NRD_Sanitize(data.w, 0.0), 0.0, 1.0));
+}
+
+// Specular hit distance of one segment of a multi-bounce path (document 004), see NRD.glsl.
+float NRD_GetCorrectedHitDist(float hitDist, float bounceIndex, float roughnessAlongPath, float importance)
+{
+    float d = isnan(hitDist) ? 0.0 : clamp(hitDist, 0.0, NRD_FP16_MAX);
+    float later = max(_NRD_Sanitize(bounceIndex, 1.0) - 1.0, 0.0); // 0 for the first bounce.
+    float m = clamp(_NRD_Sanitize(roughnessAlongPath, 0.0), 0.0, 64.0); // A sum over at most 64 bounces.
+    m *= m;
+    float k = 1.0 - exp(-m * later);
+    float weight = clamp(_NRD_Sanitize(importance, 0.0), 0.0, 1.0) / (1.0 + later * later * m);
+    return weight * d / (1.0 + d * k);
+}
+
+//==================================================================================================
 // SIGMA front end (see NRD.glsl for the meaning of the arguments and of the result).
 //==================================================================================================
 
