@@ -2,7 +2,8 @@
 #   cmake -DMODE=install -DBUILD_DIR=<build> -DSOURCE_DIR=<repo> -DWORK_DIR=<scratch> -DCONFIG=<cfg>
 #         -DGENERATOR=<gen> -DCXX=<compiler> -P PackageTest.cmake
 # MODE=install: installs the SDK, moves it (it must be relocatable), checks its file list against
-#   Tests/PackageManifest.txt and that no file names the build or source tree, prints its size,
+#   Tests/PackageManifest.txt, that no file names the build or source tree and that static libraries
+#   are deterministic archives, prints its size,
 #   then builds and runs two consumers with find_package(NRD CONFIG REQUIRED):
 #   (a) Examples/Vulkan: NRD::Core + NRD::Integration, denoises on the default Vulkan device and
 #       checks against the known answer; (c) Examples/CoreOnly: NRD::Core only (static and shared),
@@ -90,6 +91,30 @@ foreach(f ${files})
             message(FATAL_ERROR "${f} names ${tree}: the package is not relocatable (${hits})")
         endif()
     endforeach()
+endforeach()
+
+# Reproducible archives: every member of a static library carries time 0 (deterministic mode), so
+# two builds of the same sources give the same bytes. Each 60-byte member header holds its time at
+# bytes 16..27, in decimal ASCII padded with spaces.
+foreach(f ${files})
+    if(NOT f MATCHES "\\.a$")
+        continue()
+    endif()
+    file(SIZE ${sdk}/${f} size)
+    set(offset 8) # After "!<arch>\n".
+    while(offset LESS size)
+        math(EXPR time_offset "${offset} + 16")
+        file(READ ${sdk}/${f} header OFFSET ${offset} LIMIT 60)
+        file(READ ${sdk}/${f} member_time OFFSET ${time_offset} LIMIT 12 HEX)
+        # "0" or, for the long-name table, blank.
+        if(NOT member_time MATCHES "^(30|20)2020202020202020202020$")
+            message(FATAL_ERROR "${f}: archive member at byte ${offset} has a time stamp (${member_time}); "
+                                "archives must be written in deterministic mode (ar D)")
+        endif()
+        string(SUBSTRING "${header}" 48 10 member_size)
+        string(STRIP "${member_size}" member_size)
+        math(EXPR offset "${offset} + 60 + ${member_size} + (${member_size} % 2)")
+    endwhile()
 endforeach()
 
 # (a) find_package with both components; denoises on the default Vulkan device.
