@@ -62,6 +62,12 @@ NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, cons
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReferenceSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const TiledShadowSettings& settings);
 
+// Checks hit distance parameters against their documented ranges (finite, A > 0, B >= 0, C >= 1,
+// D <= 0); the settings of every method that takes HitDistanceParameters call it. Returns SUCCESS or
+// INVALID_ARGUMENT, with a message naming the field to 'logCallback' (optional, may be null).
+NRD_API Result ValidateHitDistanceParameters(const HitDistanceParameters& parameters, LogCallback logCallback = nullptr,
+                                             void* logUserArg = nullptr);
+
 // Produces the dispatches of one frame, in execution order, for the methods listed in
 // 'identifiers' (or for all methods, in creation order, if 'identifiersNum' is 0; 'identifiers' may
 // then be null). Each method's part of the frame is produced once per SetCommonSettings call.

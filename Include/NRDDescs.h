@@ -128,6 +128,25 @@ enum class ResourceType : uint32_t
     // (x, y) is lit. Bits of pixels outside the image are ignored (write them as lit).
     IN_SHADOW_BITMASK,
 
+    // Radiance + hit distance denoisers (REBLUR, RELAX). Hit distances are normalized: see
+    // HitDistanceParameters (NRDSettings.h) and REBLUR_FrontEnd_GetNormHitDist (NRD.glsl).
+
+    // [RGBA16f+] Noisy diffuse / specular signal: .rgb radiance (linear, >= 0), .w normalized hit
+    // distance in [0, 1] (1 = nothing hit), as packed by REBLUR_FrontEnd_PackRadianceAndNormHitDist.
+    // Specular radiance is demodulated by the application's specular albedo, diffuse by its albedo.
+    IN_DIFF_RADIANCE_HITDIST,
+    IN_SPEC_RADIANCE_HITDIST,
+
+    // [R16f+] Occlusion variants: .x normalized hit distance only (REBLUR_FrontEnd_GetNormHitDist).
+    IN_DIFF_HITDIST,
+    IN_SPEC_HITDIST,
+
+    // [R8+] (Optional) Confidence of the history per pixel, .x in [0, 1]: 1 = history valid, 0 =
+    // history invalid (lighting changed); values in between shorten the history. Non-finite values
+    // count as 1.
+    IN_DIFF_CONFIDENCE,
+    IN_SPEC_CONFIDENCE,
+
     // [R8+ for SIGMA_SHADOW, RGBA8+ for SIGMA_SHADOW_TRANSLUCENCY] Denoised shadow; decode with
     // SIGMA_BackEnd_UnpackShadow. TILED_SHADOW writes the denoised visibility in [0, 1] to every
     // channel (read .x); sky pixels are not written.
@@ -135,6 +154,17 @@ enum class ResourceType : uint32_t
 
     // [RGBA16f+ or RGBA32f] REFERENCE output: running mean of IN_RADIANCE.
     OUT_RADIANCE,
+
+    // [RGBA16f+] Denoised diffuse / specular radiance in .rgb (demodulated as the input), denoised
+    // normalized hit distance in .w; decode with REBLUR_BackEnd_UnpackRadianceAndNormHitDist. Sky
+    // pixels are not written.
+    OUT_DIFF_RADIANCE_HITDIST,
+    OUT_SPEC_RADIANCE_HITDIST,
+
+    // [R16f+] Occlusion variants: .x denoised normalized hit distance in [0, 1], i.e. the ambient
+    // (diffuse) or specular occlusion. Sky pixels are not written.
+    OUT_DIFF_HITDIST,
+    OUT_SPEC_HITDIST,
 
     // Pool entries: ResourceDesc::indexInPool indexes DenoiserDesc::transientPool / permanentPool /
     // buffers.

@@ -54,6 +54,22 @@ struct CommonSettings
     bool isMotionVectorInWorldSpace = false;
 };
 
+// Hit distance normalization of the radiance + hit distance methods (REBLUR, RELAX): a hit distance
+// is stored as hitDist / f, saturated to [0, 1], with
+//     f = (A + |viewZ| * B) * lerp(1, C, saturate(exp2(D * roughness^2)))
+// (REBLUR_FrontEnd_GetNormHitDist in Shaders/Include/NRD.glsl; roughness is linear, 1 for diffuse).
+// A and B are in world units (scale them with the scene's units); C widens the range of near-mirror
+// surfaces, whose reflections stay sharp farther away; D sets how fast that widening fades with
+// roughness. The application must normalize with the same values it gives the method settings.
+// Valid: all finite, A > 0, B >= 0, C >= 1, D <= 0 (ValidateHitDistanceParameters in NRD.h).
+struct HitDistanceParameters
+{
+    float A = 3.0f;   // Constant part of the range, world units, > 0.
+    float B = 0.1f;   // Part proportional to |viewZ|, >= 0.
+    float C = 20.0f;  // Range multiplier at roughness 0, >= 1.
+    float D = -25.0f; // Exponent of the roughness falloff of C (per roughness^2, base 2), <= 0.
+};
+
 // SIGMA_SHADOW and SIGMA_SHADOW_TRANSLUCENCY.
 struct SigmaSettings
 {

@@ -239,6 +239,10 @@ static bool IsCompatible(DescriptorType descriptorType, ResourceType type)
         return descriptorType == DescriptorType::BUFFER || descriptorType == DescriptorType::STORAGE_BUFFER;
     case ResourceType::OUT_SHADOW_TRANSLUCENCY:
     case ResourceType::OUT_RADIANCE:
+    case ResourceType::OUT_DIFF_RADIANCE_HITDIST:
+    case ResourceType::OUT_SPEC_RADIANCE_HITDIST:
+    case ResourceType::OUT_DIFF_HITDIST:
+    case ResourceType::OUT_SPEC_HITDIST:
         return descriptorType == DescriptorType::STORAGE_TEXTURE || descriptorType == DescriptorType::TEXTURE;
     case ResourceType::MAX_NUM:
         return false;

@@ -217,6 +217,10 @@ private:
     uint32_t m_MethodIndex;
 };
 
+// HitDistanceParameters check shared by the methods that take them (Source/HitDistance.cpp): logs
+// "SetMethodSettings: <owner>::<field> ..." and returns INVALID_ARGUMENT outside the documented ranges.
+Result ValidateHitDistanceParameters(const HitDistanceParameters& parameters, const char* owner, const Logger& log);
+
 // Factory of each method family (Source/<Family>.cpp).
 std::unique_ptr<MethodBase> CreateSigma(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateTiledShadow(MethodBuilder& builder, Method method);

@@ -21,8 +21,10 @@ static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLU
 static_assert(sizeof(kMethodNames) / sizeof(kMethodNames[0]) == size_t(Method::MAX_NUM), "name table");
 
 static const char* const kResourceTypeNames[] = {"IN_MV", "IN_NORMAL_ROUGHNESS", "IN_VIEWZ", "IN_SHADOWDATA",
-    "IN_SHADOW_TRANSLUCENCY", "IN_RADIANCE", "IN_SHADOW_VISIBILITY", "IN_SHADOW_BITMASK", "OUT_SHADOW_TRANSLUCENCY",
-    "OUT_RADIANCE", "TRANSIENT_POOL", "PERMANENT_POOL", "BUFFER_POOL"};
+    "IN_SHADOW_TRANSLUCENCY", "IN_RADIANCE", "IN_SHADOW_VISIBILITY", "IN_SHADOW_BITMASK", "IN_DIFF_RADIANCE_HITDIST",
+    "IN_SPEC_RADIANCE_HITDIST", "IN_DIFF_HITDIST", "IN_SPEC_HITDIST", "IN_DIFF_CONFIDENCE", "IN_SPEC_CONFIDENCE",
+    "OUT_SHADOW_TRANSLUCENCY", "OUT_RADIANCE", "OUT_DIFF_RADIANCE_HITDIST", "OUT_SPEC_RADIANCE_HITDIST",
+    "OUT_DIFF_HITDIST", "OUT_SPEC_HITDIST", "TRANSIENT_POOL", "PERMANENT_POOL", "BUFFER_POOL"};
 static_assert(sizeof(kResourceTypeNames) / sizeof(kResourceTypeNames[0]) == size_t(ResourceType::MAX_NUM), "name table");
 
 static const char* const kFormatNames[] = {"R8_UNORM", "RG8_UNORM", "RGBA8_UNORM", "R16_SFLOAT", "RG16_SFLOAT",
@@ -147,6 +149,11 @@ Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const Refere
 Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const TiledShadowSettings& settings)
 {
     return SetSettings(denoiser, identifier, SettingsKind::TILED_SHADOW, &settings);
+}
+
+Result ValidateHitDistanceParameters(const HitDistanceParameters& parameters, LogCallback logCallback, void* logUserArg)
+{
+    return ValidateHitDistanceParameters(parameters, "HitDistanceParameters", Logger(logCallback, logUserArg));
 }
 
 Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,

@@ -682,3 +682,63 @@ TEST_CASE("Denoisers can be created from static initializers", "[api]")
 {
     CHECK(g_CreatedBeforeMain);
 }
+
+TEST_CASE("Hit distance parameters are validated field by field", "[api]")
+{
+    LogCapture log;
+    nrd::HitDistanceParameters p;
+    CHECK(p.A == 3.0f);
+    CHECK(p.B == 0.1f);
+    CHECK(p.C == 20.0f);
+    CHECK(p.D == -25.0f);
+    CHECK(nrd::ValidateHitDistanceParameters(p, LogCapture::Callback, &log) == nrd::Result::SUCCESS);
+    CHECK(log.messages.empty());
+
+    // The limits themselves are valid (B = 0, C = 1, D = 0: a range independent of depth and roughness).
+    p.B = 0.0f;
+    p.C = 1.0f;
+    p.D = 0.0f;
+    CHECK(nrd::ValidateHitDistanceParameters(p) == nrd::Result::SUCCESS);
+
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    struct Bad
+    {
+        const char* field;
+        float nrd::HitDistanceParameters::*member;
+        float value;
+    };
+    const Bad bad[] = {
+        {"A", &nrd::HitDistanceParameters::A, 0.0f},  {"A", &nrd::HitDistanceParameters::A, -1.0f},
+        {"A", &nrd::HitDistanceParameters::A, nan},   {"A", &nrd::HitDistanceParameters::A, inf},
+        {"B", &nrd::HitDistanceParameters::B, -0.1f}, {"B", &nrd::HitDistanceParameters::B, inf},
+        {"C", &nrd::HitDistanceParameters::C, 0.99f}, {"C", &nrd::HitDistanceParameters::C, nan},
+        {"D", &nrd::HitDistanceParameters::D, 0.5f},  {"D", &nrd::HitDistanceParameters::D, -inf},
+    };
+    for (const Bad& b : bad)
+    {
+        INFO(b.field << " = " << b.value);
+        nrd::HitDistanceParameters q;
+        q.*b.member = b.value;
+        log.messages.clear();
+        CHECK(nrd::ValidateHitDistanceParameters(q, LogCapture::Callback, &log) == nrd::Result::INVALID_ARGUMENT);
+        REQUIRE(log.messages.size() == 1);
+        CHECK(log.messages[0].find(std::string("HitDistanceParameters::") + b.field) != std::string::npos);
+    }
+}
+
+TEST_CASE("Radiance and hit distance resource types have names and are application textures", "[api]")
+{
+    using R = nrd::ResourceType;
+    const std::pair<R, const char*> types[] = {
+        {R::IN_DIFF_RADIANCE_HITDIST, "IN_DIFF_RADIANCE_HITDIST"}, {R::IN_SPEC_RADIANCE_HITDIST, "IN_SPEC_RADIANCE_HITDIST"},
+        {R::IN_DIFF_HITDIST, "IN_DIFF_HITDIST"},                   {R::IN_SPEC_HITDIST, "IN_SPEC_HITDIST"},
+        {R::IN_DIFF_CONFIDENCE, "IN_DIFF_CONFIDENCE"},             {R::IN_SPEC_CONFIDENCE, "IN_SPEC_CONFIDENCE"},
+        {R::OUT_DIFF_RADIANCE_HITDIST, "OUT_DIFF_RADIANCE_HITDIST"}, {R::OUT_SPEC_RADIANCE_HITDIST, "OUT_SPEC_RADIANCE_HITDIST"},
+        {R::OUT_DIFF_HITDIST, "OUT_DIFF_HITDIST"},                 {R::OUT_SPEC_HITDIST, "OUT_SPEC_HITDIST"},
+    };
+    for (const auto& t : types)
+    {
+        CHECK(std::string(nrd::GetResourceTypeString(t.first)) == t.second);
+        CHECK(uint32_t(t.first) < uint32_t(R::TRANSIENT_POOL)); // Bound by the application, not a pool.
+    }
+}

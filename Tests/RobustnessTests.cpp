@@ -123,11 +123,13 @@ bool IsOutput(ResourceType type)
 // What an input case corrupts, by input role.
 enum Target : uint32_t
 {
-    SIGNAL = 1 << 0,    // IN_RADIANCE, IN_SHADOWDATA (.x and .y), IN_SHADOW_TRANSLUCENCY, IN_SHADOW_VISIBILITY
+    SIGNAL = 1 << 0,    // IN_RADIANCE, IN_SHADOWDATA (.x and .y), IN_SHADOW_TRANSLUCENCY, IN_SHADOW_VISIBILITY,
+                        // IN_*_RADIANCE_HITDIST (radiance and hit distance), IN_*_HITDIST
     VIEWZ = 1 << 1,     // IN_VIEWZ
     NORMAL = 1 << 2,    // IN_NORMAL_ROUGHNESS.xyz (encoded)
     ROUGHNESS = 1 << 3, // IN_NORMAL_ROUGHNESS.w
     MV = 1 << 4,        // IN_MV .xyz
+    CONFIDENCE = 1 << 5, // IN_DIFF_CONFIDENCE, IN_SPEC_CONFIDENCE
 };
 
 uint32_t TargetsOf(ResourceType type)
@@ -137,7 +139,13 @@ uint32_t TargetsOf(ResourceType type)
     case ResourceType::IN_RADIANCE:
     case ResourceType::IN_SHADOWDATA:
     case ResourceType::IN_SHADOW_TRANSLUCENCY:
-    case ResourceType::IN_SHADOW_VISIBILITY: return SIGNAL;
+    case ResourceType::IN_SHADOW_VISIBILITY:
+    case ResourceType::IN_DIFF_RADIANCE_HITDIST:
+    case ResourceType::IN_SPEC_RADIANCE_HITDIST:
+    case ResourceType::IN_DIFF_HITDIST:
+    case ResourceType::IN_SPEC_HITDIST: return SIGNAL;
+    case ResourceType::IN_DIFF_CONFIDENCE:
+    case ResourceType::IN_SPEC_CONFIDENCE: return CONFIDENCE;
     case ResourceType::IN_VIEWZ: return VIEWZ;
     case ResourceType::IN_NORMAL_ROUGHNESS: return NORMAL | ROUGHNESS;
     case ResourceType::IN_MV: return MV;
@@ -392,6 +400,15 @@ std::vector<Case> GenericCases()
     Case nanEverywhere = InputCase("signal NaN everywhere", SIGNAL, all(kNaN));
     nanEverywhere.wholeImage = true;
     cases.push_back(nanEverywhere);
+
+    // Confidence (history validity in [0, 1]): out-of-contract values, and history invalid everywhere.
+    const std::pair<const char*, float> confidences[] = {
+        {"NaN", kNaN}, {"+Inf", kInf}, {"-Inf", -kInf}, {"negative", -1.0f}, {"above 1", 3.0f}, {"denormal", 1e-40f}};
+    for (const auto& s : confidences)
+        cases.push_back(InputCase(std::string("confidence ") + s.first, CONFIDENCE, all(s.second)));
+    Case invalidHistory = InputCase("confidence 0 everywhere (history invalid)", CONFIDENCE, all(0.0f));
+    invalidHistory.wholeImage = true;
+    cases.push_back(invalidHistory);
 
     // FP16 outputs: values above 65504 must not turn into Inf on the way out.
     for (const auto& s : {std::make_pair("fp16 outputs: signal above fp16 max", 65520.0f),
@@ -794,10 +811,12 @@ public:
     }
 
 private:
-    // Mean |output - truth|: OUT_RADIANCE all channels, any other output its .x (visibility).
+    // Mean |output - truth|: OUT_RADIANCE and OUT_*_RADIANCE_HITDIST all channels (.w: the hit
+    // distance, truth the visibility), any other output its .x (visibility, hit distance).
     static double OutputError(ResourceType type, const std::vector<float>& out, uint32_t width, uint32_t rw, uint32_t rh)
     {
-        bool radiance = type == ResourceType::OUT_RADIANCE;
+        bool radiance = type == ResourceType::OUT_RADIANCE || type == ResourceType::OUT_DIFF_RADIANCE_HITDIST ||
+                        type == ResourceType::OUT_SPEC_RADIANCE_HITDIST;
         double sum = 0.0;
         size_t num = 0;
         for (uint32_t y = 0; y < rh; y++)
@@ -863,6 +882,17 @@ private:
                         p[ch] = vis * kRadianceColor[ch];
                     break;
                 case ResourceType::IN_SHADOW_VISIBILITY: p[0] = vis; break;
+                case ResourceType::IN_DIFF_RADIANCE_HITDIST:
+                case ResourceType::IN_SPEC_RADIANCE_HITDIST:
+                    // Radiance as IN_RADIANCE; the normalized hit distance is the visibility (a miss
+                    // where lit, an occluder at the surface where shadowed).
+                    for (int ch = 0; ch < 4; ch++)
+                        p[ch] = vis * kRadianceColor[ch];
+                    break;
+                case ResourceType::IN_DIFF_HITDIST:
+                case ResourceType::IN_SPEC_HITDIST: p[0] = vis; break;
+                case ResourceType::IN_DIFF_CONFIDENCE:
+                case ResourceType::IN_SPEC_CONFIDENCE: p[0] = 1.0f; break;
                 default: break;
                 }
                 if (f.bad && c.edit && (TargetsOf(type) & c.targets) && x < rw && y < rh &&

@@ -2,6 +2,7 @@
 // documented JSON contract, and the denoiser is never worse than its noisy input against the truth.
 #include <catch2/catch.hpp>
 
+#include "MethodAdapter.h"
 #include "MethodRunner.h"
 #include "Scene.h"
 
@@ -144,4 +145,34 @@ TEST_CASE("Reuse bounds: a moving camera's reprojected truth is worse than its 1
         REQUIRE(b.contains(key));
         CHECK(b[key].get<double>() >= 0.0);
     }
+}
+
+TEST_CASE("Every method of the library has a sample adapter whose signals render", "[quality]")
+{
+    // A new family is usable by nrd-sample, the benchmark and the quality tests once its adapter
+    // (Samples/Sample/Adapters) is listed in MethodAdapter.cpp.
+    const nrd::LibraryDesc& lib = nrd::GetLibraryDesc();
+    std::vector<std::string> methods = {"NONE"};
+    for (uint32_t i = 0; i < lib.supportedMethodsNum; i++)
+        methods.push_back(nrd::GetMethodString(lib.supportedMethods[i]));
+    for (const std::string& method : methods)
+    {
+        INFO(method);
+        std::unique_ptr<nrdlab::MethodAdapter> adapter = nrdlab::CreateMethodAdapter(method);
+        REQUIRE(adapter);
+        REQUIRE_FALSE(adapter->GetSignals().empty());
+        for (const std::string& signal : adapter->GetSignals())
+            CHECK(adapter->GetLabSignals(signal) != 0u);
+        if (method != "NONE")
+            CHECK(nrd::GetResourceTypeString(adapter->GetOutput(adapter->GetSignals().front())) != std::string("UNKNOWN"));
+    }
+    CHECK_FALSE(nrdlab::CreateMethodAdapter("NOT_A_METHOD"));
+
+    // The runner names the signals a method offers when asked for another one.
+    nrdlab::RunReport r;
+    std::string error;
+    nrdlab::RunOptions o = SmallRun("static", "TILED_SHADOW");
+    o.signal = "specular";
+    CHECK_FALSE(nrdlab::RunMethod(o, r, error));
+    CHECK(error.find("(shadow)") != std::string::npos);
 }

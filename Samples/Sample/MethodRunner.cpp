@@ -1,5 +1,7 @@
 #include "MethodRunner.h"
 
+#include "Adapters/Adapters.h"
+
 #include "Metrics.h"
 #include "NRDIntegration.h"
 #include "ReuseBounds.h"
@@ -23,20 +25,28 @@ namespace
 
 constexpr nrd::Identifier kId = 0;
 
-// What a method reads and writes, and which scene-lab signals feed it.
+// The method's adapter and the signal it is run on.
 struct MethodIo
 {
-    bool none = false;   // "NONE": pass the noisy input through.
+    bool none = false; // "NONE": pass the noisy input through.
     nrd::Method method = nrd::Method::MAX_NUM;
-    std::string signal;  // Report name: shadow, diffuse, specular.
-    SignalMask labSignals = 0;
-    uint32_t channels = 1; // Channels compared against the truth.
+    std::string signal; // Report name: shadow, diffuse, specular.
+    std::unique_ptr<MethodAdapter> adapter;
 };
 
 bool ResolveMethod(const RunOptions& o, MethodIo& io, std::string& error)
 {
     io.none = o.method == "NONE";
     if (!io.none && !nrd::GetMethodFromString(o.method.c_str(), io.method))
+        io.method = nrd::Method::MAX_NUM;
+    if (io.none || io.method != nrd::Method::MAX_NUM)
+        io.adapter = CreateMethodAdapter(o.method);
+    if (!io.adapter && io.method != nrd::Method::MAX_NUM)
+    {
+        error = "method " + o.method + " has no adapter in the sample (Samples/Sample/MethodAdapter.h)";
+        return false;
+    }
+    if (!io.adapter)
     {
         error = "unknown method '" + o.method + "' (";
         const nrd::LibraryDesc& lib = nrd::GetLibraryDesc();
@@ -45,101 +55,47 @@ bool ResolveMethod(const RunOptions& o, MethodIo& io, std::string& error)
         error += "NONE)";
         return false;
     }
-    io.signal = o.signal.empty() ? "shadow" : o.signal;
-    bool shadowOnly = !io.none && io.method != nrd::Method::REFERENCE;
-    if (io.signal != "shadow" && (shadowOnly || (io.signal != "diffuse" && io.signal != "specular")))
+    const std::vector<std::string> signals = io.adapter->GetSignals();
+    io.signal = o.signal.empty() ? signals.front() : o.signal;
+    if (std::find(signals.begin(), signals.end(), io.signal) == signals.end())
     {
-        error = "signal '" + io.signal + "' is not available for method " + o.method;
+        error = "signal '" + io.signal + "' is not available for method " + o.method + " (";
+        for (size_t i = 0; i < signals.size(); i++)
+            error += (i ? ", " : "") + signals[i];
+        error += ")";
         return false;
-    }
-    bool translucency = !io.none && io.method == nrd::Method::SIGMA_SHADOW_TRANSLUCENCY;
-    if (io.signal == "shadow")
-    {
-        io.labSignals = translucency ? SIGNAL_TRANSLUCENCY : SIGNAL_SHADOW;
-        io.channels = translucency ? 4 : 1;
-    }
-    else
-    {
-        io.labSignals = io.signal == "diffuse" ? SIGNAL_DIFFUSE : SIGNAL_SPECULAR;
-        io.channels = 3;
     }
     return true;
 }
 
-// Keeps the first 'channels' channels of an image.
-Image Channels(const Image& src, uint32_t channels)
-{
-    Image out(src.width, src.height, channels);
-    for (uint32_t i = 0; i < src.width * src.height; i++)
-        for (uint32_t c = 0; c < channels; c++)
-            out.pixels[i * channels + c] = c < src.channels ? src.pixels[i * src.channels + c] : 0.0f;
-    return out;
-}
-
-// Widens an image to 'channels' channels (missing ones get 'fill').
-std::vector<float> Expand(const Image& src, uint32_t channels, float fill = 0.0f)
-{
-    std::vector<float> out(size_t(src.width) * src.height * channels, fill);
-    for (uint32_t i = 0; i < src.width * src.height; i++)
-        for (uint32_t c = 0; c < channels && c < src.channels; c++)
-            out[size_t(i) * channels + c] = src.pixels[size_t(i) * src.channels + c];
-    return out;
-}
-
-// Noisy input and truth of the signal, in the compared channels.
-void SignalImages(const FrameData& f, const MethodIo& io, Image& noisy, Image& truth)
-{
-    if (io.signal == "shadow")
-    {
-        if (io.labSignals & SIGNAL_TRANSLUCENCY)
-        {
-            noisy = Channels(f.translucency, 4);
-            truth = Channels(f.translucencyTruth, 4);
-        }
-        else
-        {
-            noisy = Channels(f.shadowVisibility, 1);
-            truth = Channels(f.shadowTruth, 1);
-        }
-    }
-    else
-    {
-        const Image& n = io.signal == "diffuse" ? f.diffuse : f.specular;
-        const Image& t = io.signal == "diffuse" ? f.diffuseTruth : f.specularTruth;
-        noisy = Channels(n, 3);
-        truth = Channels(t, 3);
-    }
-}
-
-template <class T>
-void ReadField(const nlohmann::json& j, const char* key, T& value)
-{
-    if (j.contains(key))
-        value = j.at(key).get<T>();
-}
-
-bool ParseSettings(const std::string& text, nrd::CommonSettings& common, nrd::SigmaSettings& sigma,
-                   nrd::ReferenceSettings& reference, nrd::TiledShadowSettings& tiled, bool& motion3d, bool& motionNone,
-                   std::string& error)
+// Reads the common settings and the method's own settings object; other methods' keys are
+// accepted (one settings file may serve several methods), unknown keys are not.
+bool ParseSettings(const std::string& text, nrd::CommonSettings& common, MethodAdapter& adapter, bool& motion3d,
+                   bool& motionNone, std::string& error)
 {
     if (text.empty())
         return true;
     try
     {
         nlohmann::json j = nlohmann::json::parse(text);
+        std::vector<std::string> keys = GetAdapterSettingsKeys();
+        keys.insert(keys.begin(), "common");
         for (auto it = j.begin(); it != j.end(); ++it)
-            if (it.key() != "common" && it.key() != "sigma" && it.key() != "reference" && it.key() != "tiledShadow")
+            if (std::find(keys.begin(), keys.end(), it.key()) == keys.end())
             {
-                error = "settings: unknown key '" + it.key() + "' (common, sigma, reference, tiledShadow)";
+                error = "settings: unknown key '" + it.key() + "' (";
+                for (size_t i = 0; i < keys.size(); i++)
+                    error += (i ? ", " : "") + keys[i];
+                error += ")";
                 return false;
             }
         if (j.contains("common"))
         {
             const auto& c = j["common"];
-            ReadField(c, "denoisingRange", common.denoisingRange);
-            ReadField(c, "disocclusionThreshold", common.disocclusionThreshold);
+            ReadSetting(c, "denoisingRange", common.denoisingRange);
+            ReadSetting(c, "disocclusionThreshold", common.disocclusionThreshold);
             std::string motion = motion3d ? "3d" : "2d";
-            ReadField(c, "motion", motion);
+            ReadSetting(c, "motion", motion);
             if (motion != "2d" && motion != "3d" && motion != "none")
             {
                 error = "settings: common.motion must be 2d, 3d or none";
@@ -148,27 +104,11 @@ bool ParseSettings(const std::string& text, nrd::CommonSettings& common, nrd::Si
             motion3d = motion == "3d";
             motionNone = motion == "none";
         }
-        if (j.contains("sigma"))
+        const char* key = adapter.GetSettingsKey();
+        if (key && j.contains(key) && !adapter.ParseSettings(j[key], error))
         {
-            const auto& s = j["sigma"];
-            ReadField(s, "planeDistanceSensitivity", sigma.planeDistanceSensitivity);
-            ReadField(s, "blurRadiusScale", sigma.blurRadiusScale);
-            ReadField(s, "maxStabilizedFrameNum", sigma.maxStabilizedFrameNum);
-        }
-        if (j.contains("reference"))
-            ReadField(j["reference"], "maxAccumulatedFrameNum", reference.maxAccumulatedFrameNum);
-        if (j.contains("tiledShadow"))
-        {
-            const auto& t = j["tiledShadow"];
-            ReadField(t, "enableTileSkipping", tiled.enableTileSkipping);
-            ReadField(t, "neighborhoodRadius", tiled.neighborhoodRadius);
-            ReadField(t, "historyClampSigma", tiled.historyClampSigma);
-            ReadField(t, "atrousPassNum", tiled.atrousPassNum);
-            ReadField(t, "maxHistoryFrameNum", tiled.maxHistoryFrameNum);
-            ReadField(t, "planeDistanceSensitivity", tiled.planeDistanceSensitivity);
-            ReadField(t, "normalPower", tiled.normalPower);
-            if (t.contains("debugView"))
-                tiled.debugView = nrd::TiledShadowDebug(t["debugView"].get<int>());
+            error = std::string("settings: ") + key + ": " + error;
+            return false;
         }
     }
     catch (const std::exception& e)
@@ -190,22 +130,6 @@ struct Textures
     }
 };
 
-// Application texture format of each resource this runner binds.
-nrd::rhi::Format FormatOf(nrd::ResourceType type, uint32_t& channels)
-{
-    using F = nrd::rhi::Format;
-    switch (type)
-    {
-    case nrd::ResourceType::IN_VIEWZ: channels = 1; return F::R32_SFLOAT;
-    case nrd::ResourceType::IN_SHADOWDATA: channels = 2; return F::RG16_SFLOAT;
-    case nrd::ResourceType::IN_SHADOW_VISIBILITY: channels = 1; return F::R8_UNORM;
-    case nrd::ResourceType::IN_RADIANCE: channels = 4; return F::RGBA32_SFLOAT;
-    case nrd::ResourceType::OUT_RADIANCE: channels = 4; return F::RGBA32_SFLOAT;
-    case nrd::ResourceType::IN_SHADOW_BITMASK: channels = 1; return F::R32_UINT;
-    default: channels = 4; return F::RGBA16_SFLOAT;
-    }
-}
-
 } // namespace
 
 bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
@@ -225,11 +149,8 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         return false;
 
     nrd::CommonSettings common;
-    nrd::SigmaSettings sigma;
-    nrd::ReferenceSettings reference;
-    nrd::TiledShadowSettings tiled;
     bool motion3d = true, motionNone = false;
-    if (!ParseSettings(o.settingsJson, common, sigma, reference, tiled, motion3d, motionNone, error))
+    if (!ParseSettings(o.settingsJson, common, *io.adapter, motion3d, motionNone, error))
         return false;
 
     nrd::lab::VulkanContextDesc vkDesc;
@@ -266,7 +187,6 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     nrd::Integration integration;
     std::unique_ptr<Textures> textures(new Textures());
     textures->vk = &vk;
-    std::vector<nrd::ResourceType> inputs, outputs;
     if (!io.none)
     {
         nrd::MethodDesc method = {kId, io.method};
@@ -280,13 +200,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             error = "could not create the denoiser";
             return false;
         }
-        nrd::Result r = nrd::Result::SUCCESS;
-        if (io.method == nrd::Method::REFERENCE)
-            r = integration.SetMethodSettings(kId, reference);
-        else if (io.method == nrd::Method::TILED_SHADOW)
-            r = integration.SetMethodSettings(kId, tiled);
-        else
-            r = integration.SetMethodSettings(kId, sigma);
+        nrd::Result r = io.adapter->ApplySettings(integration, kId);
         if (r != nrd::Result::SUCCESS)
         {
             error = std::string("method settings rejected: ") + nrd::GetResultString(r);
@@ -313,7 +227,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         params.frameIndex = f;
         params.truthSpp = o.truthSpp;
         params.seed = o.seed;
-        params.signals = io.labSignals;
+        params.signals = io.adapter->GetLabSignals(io.signal);
         FrameData frame;
         if (!lab.Render(scene, params, frame, error))
             return false;
@@ -321,7 +235,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         report.renderTruthMs += frame.truthMs;
 
         Image noisy, truth, denoised;
-        SignalImages(frame, io, noisy, truth);
+        io.adapter->GetSignalImages(frame, io.signal, noisy, truth);
 
         if (io.none)
             denoised = noisy;
@@ -338,63 +252,50 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             bool ignoreMotion = motionNone;
             for (int a = 0; a < 3; a++)
                 common.motionVectorScale[a] = ignoreMotion || (!motion3d && a == 2) ? 0.0f : 1.0f;
-            if (io.method != nrd::Method::REFERENCE && io.method != nrd::Method::TILED_SHADOW)
-            {
-                memcpy(sigma.lightDirection, frame.light.direction, sizeof(sigma.lightDirection));
-                integration.SetMethodSettings(kId, sigma);
-            }
+            io.adapter->ApplyFrameSettings(integration, kId, frame);
             if (integration.SetCommonSettings(common) != nrd::Result::SUCCESS)
             {
                 error = "common settings rejected";
                 return false;
             }
 
-            // Application textures: the G-buffer, the signal, the output.
-            std::map<nrd::ResourceType, std::vector<float>> data;
-            data[nrd::ResourceType::IN_VIEWZ] = Expand(frame.viewZ, 1);
-            data[nrd::ResourceType::IN_NORMAL_ROUGHNESS] = Expand(frame.normalRoughness, 4);
-            data[nrd::ResourceType::IN_MV] = Expand(motion3d ? frame.motion3d : frame.motion2d, 4);
-            if (io.labSignals & SIGNAL_TRANSLUCENCY)
-            {
-                data[nrd::ResourceType::IN_SHADOWDATA] = Expand(frame.translucencyShadowData, 2);
-                data[nrd::ResourceType::IN_SHADOW_TRANSLUCENCY] = Expand(frame.translucency, 4);
-            }
-            else if (io.labSignals & SIGNAL_SHADOW)
-            {
-                data[nrd::ResourceType::IN_SHADOWDATA] = Expand(frame.shadowData, 2);
-                data[nrd::ResourceType::IN_SHADOW_VISIBILITY] = Expand(frame.shadowVisibility, 1);
-            }
-            data[nrd::ResourceType::IN_RADIANCE] = Expand(noisy, 4);
+            // Application textures: the G-buffer, the method's signal inputs, the output.
+            using F = nrd::rhi::Format;
+            std::vector<AdapterTexture> inputs = {
+                {nrd::ResourceType::IN_VIEWZ, F::R32_SFLOAT, ExpandChannels(frame.viewZ, 1)},
+                {nrd::ResourceType::IN_NORMAL_ROUGHNESS, F::RGBA16_SFLOAT, ExpandChannels(frame.normalRoughness, 4)},
+                {nrd::ResourceType::IN_MV, F::RGBA16_SFLOAT, ExpandChannels(motion3d ? frame.motion3d : frame.motion2d, 4)},
+            };
+            io.adapter->GetInputs(frame, io.signal, noisy, inputs);
 
             nrd::UserPool pool;
-            for (auto& d : data)
+            for (const AdapterTexture& input : inputs)
             {
-                uint32_t channels = 0;
-                nrd::rhi::Format format = FormatOf(d.first, channels);
-                auto& tex = textures->map[d.first];
-                if (!tex.texture && vk.CreateTexture(format, o.width, o.height, nrd::GetResourceTypeString(d.first), tex) != VK_SUCCESS)
+                auto& tex = textures->map[input.type];
+                if (!tex.texture &&
+                    vk.CreateTexture(input.format, o.width, o.height, nrd::GetResourceTypeString(input.type), tex) != VK_SUCCESS)
                 {
                     error = "texture creation failed";
                     return false;
                 }
-                if (d.second.size() != size_t(o.width) * o.height * channels || vk.UploadTexture(tex, d.second.data()) != VK_SUCCESS)
+                const size_t channels = nrd::rhi::GetFormatInfo(input.format).channelNum;
+                if (input.pixels.size() != size_t(o.width) * o.height * channels ||
+                    vk.UploadTexture(tex, input.pixels.data()) != VK_SUCCESS)
                 {
-                    error = "upload failed";
+                    error = std::string("upload failed: ") + nrd::GetResourceTypeString(input.type);
                     return false;
                 }
-                pool[d.first] = tex.AsUserTexture();
+                pool[input.type] = tex.AsUserTexture();
             }
-            nrd::ResourceType outType = io.method == nrd::Method::REFERENCE ? nrd::ResourceType::OUT_RADIANCE
-                                                                             : nrd::ResourceType::OUT_SHADOW_TRANSLUCENCY;
-            uint32_t outChannels = 0;
+            const nrd::ResourceType outType = io.adapter->GetOutput(io.signal);
+            const nrd::rhi::Format outFormat = io.adapter->GetOutputFormat(io.signal);
             auto& outTex = textures->map[outType];
-            if (!outTex.texture && vk.CreateTexture(FormatOf(outType, outChannels), o.width, o.height, "output", outTex) != VK_SUCCESS)
+            if (!outTex.texture && vk.CreateTexture(outFormat, o.width, o.height, "output", outTex) != VK_SUCCESS)
             {
                 error = "texture creation failed";
                 return false;
             }
-            // Sky pixels are not written: start from the noisy input so they compare as "passed through".
-            std::vector<float> init = Expand(noisy, 4, 1.0f);
+            std::vector<float> init = io.adapter->GetOutputInitialization(io.signal, noisy);
             vk.UploadTexture(outTex, init.data(), nrd::rhi::Layout::GENERAL);
             pool[outType] = outTex.AsUserTexture();
 
@@ -414,12 +315,9 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
                 error = "readback failed";
                 return false;
             }
-            Image full(o.width, o.height, 4);
+            Image full(o.width, o.height, nrd::rhi::GetFormatInfo(outFormat).channelNum);
             full.pixels = out;
-            denoised = Channels(full, io.channels);
-            if (io.signal == "shadow")
-                for (float& v : denoised.pixels) // SIGMA_BackEnd_UnpackShadow
-                    v = std::isfinite(v) ? std::min(std::max(v, 0.0f), 1.0f) : 1.0f;
+            denoised = io.adapter->DecodeOutput(io.signal, full);
 
             double total = 0.0;
             std::vector<nrd::DispatchTiming> timings = integration.GetLastTimings(&total);

@@ -21,6 +21,14 @@ vec4 _NRD_Sanitize(vec4 v, float replacement)
 // Largest value that survives RGBA16f storage; use before writing history in fp16 formats.
 vec4 _NRD_ClampToHalf(vec4 v) { return clamp(v, vec4(-NRD_FP16_MAX), vec4(NRD_FP16_MAX)); }
 
+// Hit distance in world units of a normalized hit distance (REBLUR_FrontEnd_GetNormHitDist's
+// inverse below 1; 1 maps to the end of the normalization range). hitDistParams: the method's
+// nrd::HitDistanceParameters (A, B, C, D).
+float _NRD_GetHitDist(float normHitDist, float viewZ, vec4 hitDistParams, float roughness)
+{
+    return clamp(_NRD_Sanitize(normHitDist, 0.0), 0.0, 1.0) * _NRD_GetHitDistNormalization(viewZ, hitDistParams, roughness);
+}
+
 uint _NRD_Hash(uint x)
 {
     x ^= x >> 16u; x *= 0x7feb352du;

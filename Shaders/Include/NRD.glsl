@@ -37,6 +37,79 @@ vec4 NRD_FrontEnd_UnpackNormalAndRoughness(vec4 p)
 }
 
 //==================================================================================================
+// Radiance + hit distance front end (REBLUR, RELAX; IN_DIFF_RADIANCE_HITDIST, IN_SPEC_RADIANCE_HITDIST,
+// IN_DIFF_HITDIST, IN_SPEC_HITDIST).
+//
+// Hit distances are stored normalized to [0, 1]: hitDist / f, saturated, with
+//   f = (A + |viewZ| * B) * mix(1, C, saturate(exp2(D * roughness^2)))
+// and hitDistParams = (A, B, C, D) = nrd::HitDistanceParameters (NRDSettings.h; defaults 3, 0.1, 20,
+// -25, in world units). Near-mirror surfaces (roughness -> 0) get up to C times the range, since
+// their reflections are sharp over longer distances. The denoiser de-normalizes with the same
+// parameters, which is why they must be the ones given to the method settings. 1 means "nothing hit
+// within the range" (a miss: pass NRD_FP16_MAX or +Inf). Diffuse signals pass roughness 1.
+//==================================================================================================
+
+// The normalization f above (> 0 for valid parameters). Non-finite viewZ counts as 0 and non-finite
+// roughness as 1.
+float _NRD_GetHitDistNormalization(float viewZ, vec4 hitDistParams, float roughness)
+{
+    float z = abs(_NRD_Sanitize(viewZ, 0.0));
+    float r = clamp(_NRD_Sanitize(roughness, 1.0), 0.0, 1.0);
+    return (hitDistParams.x + z * hitDistParams.y) * mix(1.0, hitDistParams.z, clamp(exp2(hitDistParams.w * r * r), 0.0, 1.0));
+}
+
+// Normalized hit distance in [0, 1]. hitDist: distance from the primary surface to the bounce hit (not
+// including the primary hit's own distance); NaN or negative counts as 0 (an occluder at the surface),
+// +Inf / NRD_FP16_MAX as a miss (1).
+float REBLUR_FrontEnd_GetNormHitDist(float hitDist, float viewZ, vec4 hitDistParams, float roughness)
+{
+    float d = isnan(hitDist) ? 0.0 : max(hitDist, 0.0);
+    float f = _NRD_GetHitDistNormalization(viewZ, hitDistParams, roughness);
+    return d >= NRD_FP16_MAX ? 1.0 : clamp(d / f, 0.0, 1.0);
+}
+
+// IN_DIFF_RADIANCE_HITDIST / IN_SPEC_RADIANCE_HITDIST texel: .rgb radiance clamped to [0, NRD_FP16_MAX]
+// (what RGBA16f stores), .w normHitDist clamped to [0, 1]. With 'sanitize', NaN / Inf radiance and
+// hit distance channels are cleared to 0 first (without it they are the caller's responsibility).
+vec4 REBLUR_FrontEnd_PackRadianceAndNormHitDist(vec3 radiance, float normHitDist, bool sanitize)
+{
+    if (sanitize)
+    {
+        radiance = _NRD_Sanitize(radiance, 0.0);
+        normHitDist = _NRD_Sanitize(normHitDist, 0.0);
+    }
+    return vec4(clamp(radiance, vec3(0.0), vec3(NRD_FP16_MAX)), clamp(normHitDist, 0.0, 1.0));
+}
+
+// OUT_DIFF_RADIANCE_HITDIST / OUT_SPEC_RADIANCE_HITDIST texel -> .rgb denoised radiance (>= 0), .w
+// denoised normalized hit distance in [0, 1] (ambient / specular occlusion). Non-finite channels, which
+// the denoisers never write, decode as 0.
+vec4 REBLUR_BackEnd_UnpackRadianceAndNormHitDist(vec4 data)
+{
+    return vec4(max(_NRD_Sanitize(data.xyz, 0.0), vec3(0.0)), clamp(_NRD_Sanitize(data.w, 0.0), 0.0, 1.0));
+}
+
+// Specular hit distance of a path with several bounces (document 004: pass a corrected hit distance,
+// not the sum of the segment lengths). Sum the result over the bounces of a path, then normalize.
+// The denoiser uses the hit distance for the parallax of the reflected image. The first bounce
+// (bounceIndex 1) is seen directly in the mirror and counts in full. A later segment is seen through
+// the surfaces the path has already reflected off: the rougher they were ('roughnessAlongPath': the
+// sum of their linear roughness, 1 for a diffuse event; non-finite counts as 0), the more its image
+// is blurred, so it moves less with the camera: its length is compressed (d / (1 + d * k), k growing
+// with roughness^2 and the bounce index) and its weight lowered. 'importance' is the share of the
+// path's energy this segment brings, in [0, 1] (1 for the first bounce).
+float NRD_GetCorrectedHitDist(float hitDist, float bounceIndex, float roughnessAlongPath, float importance)
+{
+    float d = isnan(hitDist) ? 0.0 : clamp(hitDist, 0.0, NRD_FP16_MAX);
+    float later = max(_NRD_Sanitize(bounceIndex, 1.0) - 1.0, 0.0); // 0 for the first bounce.
+    float m = clamp(_NRD_Sanitize(roughnessAlongPath, 0.0), 0.0, 64.0); // A sum over at most 64 bounces.
+    m *= m;
+    float k = 1.0 - exp(-m * later);
+    float weight = clamp(_NRD_Sanitize(importance, 0.0), 0.0, 1.0) / (1.0 + later * later * m);
+    return weight * d / (1.0 + d * k);
+}
+
+//==================================================================================================
 // SIGMA front end.
 //
 // distanceToOccluder: distance from the shaded point to the first occluder along the shadow ray,
