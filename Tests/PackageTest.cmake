@@ -3,8 +3,8 @@
 #         -DGENERATOR=<gen> -DCXX=<compiler> -P PackageTest.cmake
 # MODE=install: installs the SDK, moves it (it must be relocatable), checks its file list against
 #   Tests/PackageManifest.txt, that no file names the build or source tree and that static libraries
-#   are deterministic archives, prints its size,
-#   then builds and runs two consumers with find_package(NRD CONFIG REQUIRED):
+#   are deterministic archives, prints its size, then builds and runs two consumers with
+#   find_package(NRD CONFIG REQUIRED):
 #   (a) Examples/Vulkan: NRD::Core + NRD::Integration, denoises on the default Vulkan device and
 #       checks against the known answer; (c) Examples/CoreOnly: NRD::Core only (static and shared),
 #       walks the descriptions with its own executor; its compile and link commands, the headers it
@@ -21,7 +21,7 @@ function(run_step what)
     set(step_output "${out}${err}" PARENT_SCOPE)
 endfunction()
 
-# configure + build one consumer project; 'extra' are additional cache entries.
+# Configures and builds one consumer project; further arguments are extra -D cache entries.
 function(build_consumer name source binary)
     set(args -S ${source} -B ${binary} -G ${GENERATOR} -DCMAKE_BUILD_TYPE=${CONFIG} -DCMAKE_CXX_COMPILER=${CXX} ${ARGN})
     run_step("${name}: configure" ${CMAKE_COMMAND} ${args})
