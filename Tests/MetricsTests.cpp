@@ -575,3 +575,11 @@ TEST_CASE("Side-by-side strip places the images left to right with gaps in betwe
     CHECK_FALSE(WriteSideBySide(dir.file("none.png"), {}, &err));
     CHECK_FALSE(err.empty());
 }
+
+TEST_CASE("MeanValue averages every channel of every pixel", "[metrics]")
+{
+    nrdlab::Image image(2, 1, 3);
+    image.pixels = {1.0f, 2.0f, 3.0f, 4.0f, 5.0f, 9.0f};
+    CHECK(nrdlab::MeanValue(image) == Approx(4.0));
+    CHECK(nrdlab::MeanValue(nrdlab::Image()) == 0.0);
+}

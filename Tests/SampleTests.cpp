@@ -51,7 +51,7 @@ TEST_CASE("The JSON report carries every field of the contract", "[quality]")
     const auto& s = j["signals"]["shadow"];
     for (const char* key : {"relmse_noisy", "relmse_denoised", "psnr_noisy", "psnr_denoised", "ssim_noisy",
                             "ssim_denoised", "flip_noisy", "flip_denoised", "temporal_instability_denoised",
-                            "temporal_instability_truth", "lag_frames"})
+                            "temporal_instability_truth", "lag_frames", "mean_noisy", "mean_denoised", "mean_truth"})
     {
         INFO(key);
         REQUIRE(s.contains(key));
@@ -175,4 +175,38 @@ TEST_CASE("Every method of the library has a sample adapter whose signals render
     o.signal = "specular";
     CHECK_FALSE(nrdlab::RunMethod(o, r, error));
     CHECK(error.find("(shadow)") != std::string::npos);
+}
+
+TEST_CASE("The report gives the mean of the input, output and truth, occlusion signals included", "[quality]")
+{
+    // REFERENCE on the normalized hit distance (diffuse_occlusion): every compared value in [0, 1],
+    // its running mean close to the truth's mean on a still scene; NONE outputs its input.
+    for (const char* method : {"REFERENCE", "NONE"})
+    {
+        INFO(method);
+        nrdlab::RunReport r;
+        std::string error;
+        nrdlab::RunOptions o = SmallRun("static", method);
+        o.signal = "diffuse_occlusion";
+        o.frames = 6;
+        o.warmup = 2;
+        REQUIRE(nrdlab::RunMethod(o, r, error));
+        REQUIRE(r.denoised.channels == 1u);
+        for (const nrdlab::Image* image : {&r.noisy, &r.denoised, &r.truth})
+            for (float v : image->pixels)
+                REQUIRE((v >= 0.0f && v <= 1.0f));
+        CHECK(r.mean.meanTruth > 0.0);
+        CHECK(r.mean.meanTruth < 1.0);
+        if (std::string(method) == "NONE")
+            CHECK(r.mean.meanDenoised == r.mean.meanNoisy);
+        else
+            CHECK(std::fabs(r.mean.meanDenoised - r.mean.meanTruth) < 0.03 * r.mean.meanTruth);
+        nlohmann::json j = nlohmann::json::parse(nrdlab::ReportToJson(r));
+        REQUIRE(j["signals"].contains("diffuse_occlusion"));
+        const auto& s = j["signals"]["diffuse_occlusion"];
+        CHECK(s["mean_noisy"].get<double>() == Approx(r.mean.meanNoisy));
+        CHECK(s["mean_denoised"].get<double>() == Approx(r.mean.meanDenoised));
+        CHECK(s["mean_truth"].get<double>() == Approx(r.mean.meanTruth));
+        CHECK(j["per_frame"][3].contains("mean_truth"));
+    }
 }

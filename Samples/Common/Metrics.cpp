@@ -537,6 +537,14 @@ double FiniteClamp(float v)
 
 } // namespace
 
+double MeanValue(const Image& image)
+{
+    double sum = 0.0;
+    for (float v : image.pixels)
+        sum += double(v);
+    return image.pixels.empty() ? 0.0 : sum / double(image.pixels.size());
+}
+
 bool SameShape(const Image& a, const Image& b)
 {
     return a.isValid() && b.isValid() && a.width == b.width && a.height == b.height &&

@@ -39,6 +39,10 @@ constexpr double kFlipDefaultPpd = 67.02;
 // True when both images are valid and have the same width, height and channels.
 bool SameShape(const Image& a, const Image& b);
 
+// Mean of every channel of every pixel (0 for an empty image); compared between an output and its
+// reference it shows energy bias.
+double MeanValue(const Image& image);
+
 // Relative MSE: mean over pixels and colour channels of (t - r)^2 / (r^2 + eps)
 // on linear values. A sample whose test or reference value is NaN/Inf
 // contributes kRelMseNonFinitePenalty instead of poisoning the mean with NaN.

@@ -3,7 +3,8 @@
 //
 // nrd-sample --scene NAME|FILE.json --method METHOD|NONE [--frames N] [--size WxH] [--truth-spp K]
 //            [--seed S] [--warmup W] [--device I] [--settings FILE.json] [--out DIR] [--json FILE]
-//            [--signal shadow|diffuse|specular] [--validation] [--cache DIR|none] [--quiet]
+//            [--signal shadow|diffuse|specular|diffuse_occlusion|specular_occlusion] [--validation]
+//            [--cache DIR|none] [--bounds] [--quiet]
 #include "ImageIO.h"
 #include "MethodRunner.h"
 
@@ -24,8 +25,8 @@ void PrintUsage()
     std::fprintf(stderr,
                  "usage: nrd-sample --scene NAME|FILE.json --method METHOD|NONE [--frames N] [--size WxH]\n"
                  "                  [--truth-spp K] [--seed S] [--warmup W] [--device I] [--settings FILE.json]\n"
-                 "                  [--out DIR] [--json FILE] [--signal shadow|diffuse|specular] [--validation]\n"
-                 "                  [--cache DIR|none] [--bounds] [--quiet]\n");
+                 "                  [--out DIR] [--json FILE] [--validation] [--cache DIR|none] [--bounds] [--quiet]\n"
+                 "                  [--signal shadow|diffuse|specular|diffuse_occlusion|specular_occlusion]\n");
 }
 
 bool ParseUint(const char* s, uint32_t& out)
@@ -146,10 +147,11 @@ int main(int argc, char** argv)
     std::string base = outDir + "/" + r.scene + "_" + r.method + "_" + r.signal;
     bool written = true;
     std::string ioError;
-    // Shadows are already in [0, 1]: no tone mapping, and stored linearly so values read as visibility.
+    // Shadows and occlusion are already in [0, 1]: no tone mapping, and stored linearly so values read
+    // as they are.
     nrdlab::PngOptions png;
-    png.toneMap = r.signal != "shadow";
-    png.srgb = r.signal != "shadow";
+    png.toneMap = r.signal == "diffuse" || r.signal == "specular";
+    png.srgb = png.toneMap;
     for (auto& [suffix, image] : {std::pair<const char*, const nrdlab::Image*>{"noisy", &r.noisy},
                                   {"denoised", &r.denoised}, {"truth", &r.truth}})
     {

@@ -55,6 +55,14 @@ Image KeepChannels(const Image& src, uint32_t channels)
     return out;
 }
 
+Image KeepChannel(const Image& src, uint32_t channel)
+{
+    Image out(src.width, src.height, 1);
+    for (uint32_t i = 0; i < src.width * src.height; i++)
+        out.pixels[i] = channel < src.channels ? src.pixels[i * src.channels + channel] : 0.0f;
+    return out;
+}
+
 std::vector<float> ExpandChannels(const Image& src, uint32_t channels, float fill)
 {
     std::vector<float> out(size_t(src.width) * src.height * channels, fill);

@@ -94,6 +94,9 @@ std::vector<std::string> GetAdapterSettingsKeys();
 // Keeps the first 'channels' channels of an image (missing ones are 0).
 Image KeepChannels(const Image& src, uint32_t channels);
 
+// Channel 'channel' of an image, as a 1-channel image.
+Image KeepChannel(const Image& src, uint32_t channel);
+
 // Widens an image to 'channels' channels (missing ones get 'fill').
 std::vector<float> ExpandChannels(const Image& src, uint32_t channels, float fill = 0.0f);
 

@@ -352,6 +352,9 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             }
         }
         m.relmseNoisy = RelMSE(noisy, truth);
+        m.meanNoisy = MeanValue(noisy);
+        m.meanDenoised = MeanValue(denoised);
+        m.meanTruth = MeanValue(truth);
         m.relmseDenoised = RelMSE(denoised, truth);
         m.psnrNoisy = Psnr(noisy, truth);
         m.psnrDenoised = Psnr(denoised, truth);
@@ -400,6 +403,9 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         mean.temporalInstabilityDenoised += m.temporalInstabilityDenoised / n;
         mean.temporalInstabilityTruth += m.temporalInstabilityTruth / n;
         mean.gpuMs += m.gpuMs / n;
+        mean.meanNoisy += m.meanNoisy / n;
+        mean.meanDenoised += m.meanDenoised / n;
+        mean.meanTruth += m.meanTruth / n;
     }
     if (o.bounds)
     {
@@ -463,6 +469,9 @@ std::string ReportToJson(const RunReport& r)
         j["temporal_instability_noisy"] = m.temporalInstabilityNoisy;
         j["temporal_instability_denoised"] = m.temporalInstabilityDenoised;
         j["temporal_instability_truth"] = m.temporalInstabilityTruth;
+        j["mean_noisy"] = m.meanNoisy;
+        j["mean_denoised"] = m.meanDenoised;
+        j["mean_truth"] = m.meanTruth;
         if (m.boundOracle >= 0.0)
         {
             j["bounds"]["reprojected_truth_relmse"] = m.boundReprojectedTruth;

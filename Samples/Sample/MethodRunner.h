@@ -42,6 +42,9 @@ struct FrameMetrics
     double flipNoisy = 0, flipDenoised = 0;
     double temporalInstabilityNoisy = 0, temporalInstabilityDenoised = 0, temporalInstabilityTruth = 0;
     double gpuMs = 0;
+    // Mean value of the compared channels over every pixel (sky included, passed through): a
+    // denoiser that loses or adds energy has meanDenoised away from meanTruth.
+    double meanNoisy = 0, meanDenoised = 0, meanTruth = 0;
     // ReuseBounds.h (with RunOptions::bounds; -1 otherwise and where a frame has no previous one):
     // the oracle with blend factor 0.25, and with each of kBoundAlphas.
     double boundReprojectedTruth = -1, boundOracle = -1, boundOracleInstability = -1;

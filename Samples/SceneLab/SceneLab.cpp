@@ -609,6 +609,8 @@ void SceneLab::Impl::Upload(const Scene& scene, const SceneState& cur, const Sce
     k.gSize = {p.width, p.height, p.frameIndex, seed};
     k.gCounts = {uint32_t(scene.objects.size()), uint32_t(scene.lights.size()), p.lightIndex, 0u};
     k.gOptions = {0u, p.frameIndex > 0 ? 1u : 0u, 0u, 0u};
+    const nrd::HitDistanceParameters& hd = p.hitDistanceParameters;
+    k.gHitDistParams = {hd.A, hd.B, hd.C, hd.D};
     std::memcpy(device.MapBuffer(*constants), &k, sizeof(k));
 
     auto* objs = static_cast<gpu::LabObject*>(device.MapBuffer(*objects));
@@ -790,7 +792,12 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
             key += "|light=" + std::to_string(p.lightIndex);
         if (part == PART_DIFFUSE || part == PART_SPECULAR || part == PART_GRADIENTS || part == PART_DIFFUSE_TRUTH ||
             part == PART_SPECULAR_TRUTH)
-            key += "|bounces=" + std::to_string(p.bounces) + "|direct=" + std::to_string(p.directLighting ? 1 : 0);
+        {
+            const nrd::HitDistanceParameters& hd = p.hitDistanceParameters;
+            key += "|bounces=" + std::to_string(p.bounces) + "|direct=" + std::to_string(p.directLighting ? 1 : 0) +
+                   "|hitDist=" + std::to_string(hd.A) + "," + std::to_string(hd.B) + "," + std::to_string(hd.C) + "," +
+                   std::to_string(hd.D);
+        }
         if (part >= PART_SHADOW_TRUTH)
             key += "|spp=" + std::to_string(p.truthSpp);
         std::string prefix = (scene.name.empty() ? std::string("scene") : scene.name) + "-" + std::to_string(w) +
@@ -956,10 +963,9 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
             for (size_t px = 0; px < pixelNum; px++)
             {
                 float* t = &radianceTruth[k]->pixels[px * 4];
-                float hits = b[px * 4];
                 for (int ch = 0; ch < 3; ch++)
                     t[ch] = isSky(px) ? 0.0f : a[px * 4 + ch] / n;
-                t[3] = isSky(px) || hits <= 0.0f ? kNoHitDistance : a[px * 4 + 3] / hits;
+                t[3] = isSky(px) ? 1.0f : b[px * 4 + 1] / n; // Mean normalized hit distance.
             }
         }
         out.truthMs = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

@@ -19,6 +19,8 @@
 #include "Image.h"
 #include "Scene.h"
 
+#include "NRD.h"
+
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -74,6 +76,9 @@ struct RenderParams
     uint32_t lightIndex = 0;       // Light of SIGNAL_SHADOW (index into Scene::lights).
     uint32_t bounces = 1;          // Diffuse / specular / gradients: 1 (direct light at the bounce hit) or 2.
     bool directLighting = true;    // Diffuse / specular / gradients include the primary surface's direct light.
+    // Normalization of the diffuse / specular hit distances (their .w), as the application gives it
+    // to the denoiser (REBLUR_FrontEnd_GetNormHitDist; diffuse with roughness 1).
+    nrd::HitDistanceParameters hitDistanceParameters;
     bool useCache = true;          // Read / write the disk cache (if the lab has a cache directory).
 };
 
@@ -133,8 +138,10 @@ struct FrameData
     // 4 ch: .x expected mean-over-lights visibility, .yzw sum(L_i V_i) / sum(L_i) (1 where sum L_i = 0).
     Image translucencyTruth;
 
-    // SIGNAL_DIFFUSE / SIGNAL_SPECULAR: 4 ch, rgb radiance, .w hit distance of the bounce ray
-    // (kNoHitDistance if it left the scene). Sky pixels: (0, 0, 0, kNoHitDistance).
+    // SIGNAL_DIFFUSE / SIGNAL_SPECULAR: 4 ch, packed by REBLUR_FrontEnd_PackRadianceAndNormHitDist
+    // (IN_DIFF_RADIANCE_HITDIST / IN_SPEC_RADIANCE_HITDIST, sanitized): rgb radiance, .w normalized
+    // hit distance of the bounce ray (RenderParams::hitDistanceParameters; 1 if it left the scene
+    // or went beyond the range). Sky pixels: (0, 0, 0, 1).
     // Both are demodulated: final colour = albedo * diffuse + specularAlbedo * specular.
     //   diffuse: [direct light of every light, 1 shadow ray each, / pi] + incoming radiance along
     //     one cosine-sampled direction (emission + direct light at the hit [+ 1 more bounce] or
@@ -142,7 +149,8 @@ struct FrameData
     //   specular: ([GGX direct light of every light] + one GGX VNDF-sampled reflection weighted
     //     F * G2 / G1) / specularAlbedo. Direct light uses roughness >= 0.25 (see the README).
     //   [..] only with RenderParams::directLighting (default).
-    // Truth .w: mean hit distance over the samples that hit something (kNoHitDistance if none).
+    // Truth .w: mean normalized hit distance over the truth samples (misses count as 1), i.e. what
+    // a perfect ambient / specular occlusion denoiser returns, in [0, 1]; sky 1.
     Image diffuse, diffuseTruth;
     Image specular, specularTruth;
 

@@ -27,7 +27,9 @@ std::unique_ptr<MethodAdapter> CreateTiledShadowAdapter(const std::string& metho
 extern const char* const kTiledShadowSettingsKey;
 
 // Shared by the adapters: the lab's noisy input and truth of the shadow, diffuse and specular
-// signals in their compared channels (shadow: 1, diffuse / specular: rgb).
+// signals in their compared channels (shadow: 1, diffuse / specular: rgb radiance,
+// diffuse_occlusion / specular_occlusion: 1, the normalized hit distance).
+std::vector<std::string> GetLabSignalNames();
 void GetLabSignalImages(const FrameData& frame, const std::string& signal, Image& noisy, Image& truth);
 SignalMask GetLabSignalMask(const std::string& signal);
 

@@ -6,13 +6,18 @@
 namespace nrdlab
 {
 
+std::vector<std::string> GetLabSignalNames()
+{
+    return {"shadow", "diffuse", "specular", "diffuse_occlusion", "specular_occlusion"};
+}
+
 SignalMask GetLabSignalMask(const std::string& signal)
 {
     if (signal == "shadow")
         return SIGNAL_SHADOW;
-    if (signal == "diffuse")
+    if (signal == "diffuse" || signal == "diffuse_occlusion")
         return SIGNAL_DIFFUSE;
-    if (signal == "specular")
+    if (signal == "specular" || signal == "specular_occlusion")
         return SIGNAL_SPECULAR;
     return 0;
 }
@@ -23,6 +28,13 @@ void GetLabSignalImages(const FrameData& f, const std::string& signal, Image& no
     {
         noisy = KeepChannels(f.shadowVisibility, 1);
         truth = KeepChannels(f.shadowTruth, 1);
+    }
+    else if (signal == "diffuse_occlusion" || signal == "specular_occlusion")
+    {
+        // The normalized hit distance (.w): AO / SO.
+        const bool diffuse = signal == "diffuse_occlusion";
+        noisy = KeepChannel(diffuse ? f.diffuse : f.specular, 3);
+        truth = KeepChannel(diffuse ? f.diffuseTruth : f.specularTruth, 3);
     }
     else
     {
@@ -45,7 +57,7 @@ namespace
 class PassThroughAdapter : public MethodAdapter
 {
 public:
-    std::vector<std::string> GetSignals() const override { return {"shadow", "diffuse", "specular"}; }
+    std::vector<std::string> GetSignals() const override { return GetLabSignalNames(); }
     SignalMask GetLabSignals(const std::string& signal) const override { return GetLabSignalMask(signal); }
     void GetSignalImages(const FrameData& frame, const std::string& signal, Image& noisy, Image& truth) const override
     {

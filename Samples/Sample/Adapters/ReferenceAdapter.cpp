@@ -14,7 +14,7 @@ namespace
 class ReferenceAdapter : public MethodAdapter
 {
 public:
-    std::vector<std::string> GetSignals() const override { return {"shadow", "diffuse", "specular"}; }
+    std::vector<std::string> GetSignals() const override { return GetLabSignalNames(); }
     SignalMask GetLabSignals(const std::string& signal) const override { return GetLabSignalMask(signal); }
     void GetSignalImages(const FrameData& f, const std::string& signal, Image& noisy, Image& truth) const override
     {
@@ -42,7 +42,7 @@ public:
     nrd::rhi::Format GetOutputFormat(const std::string&) const override { return nrd::rhi::Format::RGBA32_SFLOAT; }
     Image DecodeOutput(const std::string& signal, const Image& output) const override
     {
-        Image out = KeepChannels(output, signal == "shadow" ? 1 : 3);
+        Image out = KeepChannels(output, signal == "diffuse" || signal == "specular" ? 3 : 1);
         if (signal == "shadow")
             UnpackShadow(out);
         return out;

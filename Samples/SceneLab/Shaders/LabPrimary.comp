@@ -76,9 +76,9 @@ void main()
             imageStore(gOut_Translucency, ip, vec4(1.0));
             imageStore(gOut_TranslucencyData, ip, vec4(SIGMA_INF_SHADOW, 0.0, 0.0));
 #elif LAB_SIGNAL == LAB_SIGNAL_DIFFUSE
-            imageStore(gOut_Diffuse, ip, vec4(0.0, 0.0, 0.0, NRD_FP16_MAX));
+            imageStore(gOut_Diffuse, ip, vec4(0.0, 0.0, 0.0, 1.0));
 #elif LAB_SIGNAL == LAB_SIGNAL_SPECULAR
-            imageStore(gOut_Specular, ip, vec4(0.0, 0.0, 0.0, NRD_FP16_MAX));
+            imageStore(gOut_Specular, ip, vec4(0.0, 0.0, 0.0, 1.0));
 #endif
         }
         else
@@ -127,10 +127,15 @@ void main()
             imageStore(gOut_TranslucencyData, ip, vec4(shadowData, 0.0, 0.0));
 #elif LAB_SIGNAL == LAB_SIGNAL_DIFFUSE
             uint rng = InitRng(pixel, frame, 0u, seed, LAB_STREAM_DIFFUSE);
-            imageStore(gOut_Diffuse, ip, DiffuseSample(s, 0u, rng));
+            // Packed as an application packs IN_DIFF_RADIANCE_HITDIST (diffuse: roughness 1).
+            vec4 v = DiffuseSample(s, 0u, rng);
+            float normHitDist = REBLUR_FrontEnd_GetNormHitDist(v.w, viewZ, c.gHitDistParams, 1.0);
+            imageStore(gOut_Diffuse, ip, REBLUR_FrontEnd_PackRadianceAndNormHitDist(v.rgb, normHitDist, true));
 #elif LAB_SIGNAL == LAB_SIGNAL_SPECULAR
             uint rng = InitRng(pixel, frame, 0u, seed, LAB_STREAM_SPECULAR);
-            imageStore(gOut_Specular, ip, SpecularSample(s, V, 0u, rng));
+            vec4 v = SpecularSample(s, V, 0u, rng);
+            float normHitDist = REBLUR_FrontEnd_GetNormHitDist(v.w, viewZ, c.gHitDistParams, s.linearRoughness);
+            imageStore(gOut_Specular, ip, REBLUR_FrontEnd_PackRadianceAndNormHitDist(v.rgb, normHitDist, true));
 #endif
         }
     }

@@ -66,13 +66,13 @@ struct mat4 { float m[16]; }; // Column-major, as GLSL.
 #define LAB_BINDING_SHADOW 9         // shadowData.xy (SIGMA_FrontEnd_PackShadow), visibility, distanceToOccluder
 #define LAB_BINDING_TRANSLUCENCY 10  // shadowTranslucency (SIGMA_FrontEnd_MultiLightEnd)
 #define LAB_BINDING_TRANSLUCENCY_DATA 11 // shadowData.xy of MultiLightEnd, 0, 0
-#define LAB_BINDING_DIFFUSE 12       // radiance rgb, hit distance
-#define LAB_BINDING_SPECULAR 13      // radiance rgb, hit distance
+#define LAB_BINDING_DIFFUSE 12       // radiance rgb, normalized hit distance
+#define LAB_BINDING_SPECULAR 13      // radiance rgb, normalized hit distance
 #define LAB_BINDING_HIT_MASK 14      // r32ui, ceil(w / 8) x ceil(h / 4): bit (x % 8) + 8 (y % 4) = lit
 // LabTruth accumulators (rgba32f, read-write), per signal:
 //   shadow:       A = (sum visibility, 0, 0, 0)
 //   translucency: A = (sum L rgb, sum mean-over-lights visibility), B = (sum L * V rgb, 0)
-//   diffuse, specular: A = (sum radiance rgb, sum hit distance of hits), B = (hit count, 0, 0, 0)
+//   diffuse, specular: A = (sum radiance rgb, 0), B = (0, sum normalized hit distance, 0, 0)
 #define LAB_BINDING_ACC_A 15
 #define LAB_BINDING_ACC_B 16
 // LabGradients output (rgba32f), ceil(w / 3) x ceil(h / 3)
@@ -93,6 +93,7 @@ struct LabConstants
     uvec4 gSize;           // width, height, frame index, seed
     uvec4 gCounts;         // objects, lights, shadow light index, 0
     uvec4 gOptions;        // 0, has previous frame (0/1), 0, 0
+    vec4 gHitDistParams;   // nrd::HitDistanceParameters (A, B, C, D) of the diffuse / specular .w.
 };
 
 // Push constants of LabTruth: which samples this dispatch adds.
@@ -126,7 +127,7 @@ struct LabLight
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(LabConstants) == 4 * 64 + 5 * 16 + 3 * 16, "LabConstants layout");
+static_assert(sizeof(LabConstants) == 4 * 64 + 6 * 16 + 3 * 16, "LabConstants layout");
 static_assert(sizeof(LabObject) == 128, "LabObject layout");
 static_assert(sizeof(LabMaterial) == 32, "LabMaterial layout");
 static_assert(sizeof(LabLight) == 80, "LabLight layout");

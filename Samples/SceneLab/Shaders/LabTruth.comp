@@ -44,6 +44,7 @@ void main()
     {
         Surface s = GetSurface(h);
         vec3 V = -dir;
+        float viewZ = ViewZ(h.pos, 0u);
         for (uint k = 0u; k < count; k++)
         {
             uint sampleIndex = 1u + first + k;
@@ -67,16 +68,16 @@ void main()
 #  if LAB_SIGNAL == LAB_SIGNAL_DIFFUSE
             uint rng = InitRng(pixel, frame, sampleIndex, seed, LAB_STREAM_DIFFUSE);
             vec4 v = DiffuseSample(s, 0u, rng);
+            float roughness = 1.0;
 #  else
             uint rng = InitRng(pixel, frame, sampleIndex, seed, LAB_STREAM_SPECULAR);
             vec4 v = SpecularSample(s, V, 0u, rng);
+            float roughness = s.linearRoughness;
 #  endif
+            // The radiance as it is (its mean is the truth), the hit distance normalized as the noisy
+            // input is: the truth of the normalized hit distance (AO / SO) is its mean.
             accA.rgb += v.rgb;
-            if (v.w < NRD_FP16_MAX)
-            {
-                accA.w += v.w;
-                accB.x += 1.0;
-            }
+            accB.y += REBLUR_FrontEnd_GetNormHitDist(v.w, viewZ, c.gHitDistParams, roughness);
 #endif
         }
     }
