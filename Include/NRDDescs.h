@@ -48,6 +48,21 @@ enum class Method : uint32_t
     // edge-avoiding a-trous passes; tiles without spatial variance are skipped.
     TILED_SHADOW,
 
+    // Recurrent-blur radiance denoiser (document 004, REBLUR), 0.5-1 ray per pixel: IN_MV,
+    // IN_NORMAL_ROUGHNESS, IN_VIEWZ, IN_DIFF_RADIANCE_HITDIST and / or IN_SPEC_RADIANCE_HITDIST
+    // (optional IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE, see ReblurSettings::isConfidenceInput)
+    // -> OUT_DIFF_RADIANCE_HITDIST / OUT_SPEC_RADIANCE_HITDIST (.w = denoised normalized hit
+    // distance). Settings: ReblurSettings. Shaders/Reblur/README.md lists passes and memory.
+    REBLUR_DIFFUSE,
+    REBLUR_SPECULAR,
+    REBLUR_DIFFUSE_SPECULAR,
+
+    // Occlusion only: IN_DIFF_HITDIST / IN_SPEC_HITDIST -> OUT_DIFF_HITDIST / OUT_SPEC_HITDIST (.x =
+    // denoised normalized hit distance: ambient / specular occlusion).
+    REBLUR_DIFFUSE_OCCLUSION,
+    REBLUR_SPECULAR_OCCLUSION,
+    REBLUR_DIFFUSE_SPECULAR_OCCLUSION,
+
     MAX_NUM
 };
 

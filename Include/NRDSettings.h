@@ -180,4 +180,97 @@ constexpr uint32_t TILED_SHADOW_COUNTERS_SKY_TILES = 1;      // Other tiles skip
 constexpr uint32_t TILED_SHADOW_COUNTERS_TOTAL_TILES = 2;    // DivideUp(width, 8) * DivideUp(height, 4).
 constexpr uint32_t TILED_SHADOW_COUNTERS_FRAME = 3;          // Frame number n.
 
+// Normalization of hit distances (REBLUR, RELAX; document 004): a hit distance is stored as
+// hitDist / f in [0, 1] with f = (A + |viewZ| * B) * lerp(1, C, exp2(D * linearRoughness^2)), so
+// that the shading pass and the denoiser agree on its scale (REBLUR_FrontEnd_GetNormHitDist).
+struct HitDistanceParameters
+{
+    float A = 3.0f;   // Constant part, world units, > 0.
+    float B = 0.1f;   // Part proportional to |viewZ|, >= 0.
+    float C = 20.0f;  // Scale for smooth surfaces, >= 1.
+    float D = -25.0f; // Roughness falloff of C, <= 0.
+};
+
+// REBLUR checkerboard input: which pixels carry a traced sample this frame.
+enum class CheckerboardMode : uint8_t
+{
+    OFF,   // Every pixel.
+    BLACK, // Pixels with (x + y + frameIndex) even.
+    WHITE, // Pixels with (x + y + frameIndex) odd.
+};
+
+// REBLUR_* (document 004, REBLUR). Ranges in brackets; values outside get INVALID_ARGUMENT.
+struct ReblurSettings
+{
+    HitDistanceParameters hitDistanceParameters = {};
+
+    // Longest (slow) history in frames, [0, REBLUR_MAX_HISTORY_FRAME_NUM]. 0 = no temporal reuse.
+    uint32_t maxAccumulatedFrameNum = 30;
+
+    // Fast history (anti-lag reference) in frames, [0, maxAccumulatedFrameNum]. Where the slow
+    // history leaves the fast one by more than antilagSigmaScale of its expected noise, the history
+    // is shortened towards this length.
+    uint32_t maxFastAccumulatedFrameNum = 6;
+
+    // Histories shorter than this many frames are reconstructed from neighbours (history fix),
+    // [0, REBLUR_MAX_HISTORY_FIX_FRAME_NUM]. 0 disables the history fix.
+    uint32_t historyFixFrameNum = 3;
+
+    // Pixel stride of the history fix's 5x5 sampling at history length 0, [1, 16].
+    float historyFixStride = 6.0f;
+
+    // Largest blur radius in pixels (short history, far hits, rough specular), [0, REBLUR_MAX_BLUR_RADIUS].
+    float blurRadius = 24.0f;
+
+    // Smallest blur radius in pixels once history is long (specular: times min(2 roughness, 1)),
+    // [0, blurRadius].
+    float minBlurRadius = 1.5f;
+
+    // Spatial pre-pass radius in pixels before temporal accumulation, [0, REBLUR_MAX_BLUR_RADIUS];
+    // 0 skips the pre-pass. Helps at 0.5 ray per pixel (checkerboard) and with very noisy input.
+    float prePassBlurRadius = 0.0f;
+
+    // Post-blur radius relative to the blur radius, [0, 2].
+    float postBlurRadiusScale = 0.5f;
+
+    // Relative plane distance (fraction of viewZ) that drops a spatial weight to 0, (0, 1].
+    float planeDistanceSensitivity = 0.02f;
+
+    // Specular normal weight: accepted normal difference as a fraction of the lobe's half-angle, (0, 4].
+    float lobeAngleFraction = 1.0f;
+
+    // Specular roughness weight: accepted relative roughness difference, (0, 1].
+    float roughnessFraction = 0.5f;
+
+    // Anti-lag of the slow history: tolerated difference to the fast history in standard deviations
+    // of the fast history's noise, [0.5, 64]. Lower reacts sooner to lighting changes, noisier.
+    float antilagSigmaScale = 3.0f;
+
+    // Temporal stabilization in frames, [0, REBLUR_MAX_HISTORY_FRAME_NUM]. 0 disables it.
+    uint32_t maxStabilizedFrameNum = 12;
+
+    // Roughness-based colour compression of the spatial passes, [0, 16]: radiance is filtered as
+    // c / (1 + k * luminance) (k = this * (1 - roughness) for specular, this / 4 for diffuse), which
+    // keeps single bright samples from smearing. 0 disables it.
+    float colorCompression = 0.0f;
+
+    // Anti-firefly: luminance above mean + antiFireflySigma * sigma of the 3x3 neighbours is
+    // clamped before the blur, [0, 64]; 0 disables it.
+    float antiFireflySigma = 0.0f;
+
+    CheckerboardMode checkerboardMode = CheckerboardMode::OFF;
+
+    // IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE are bound and shorten the history where < 1.
+    bool isConfidenceInput = false;
+
+    // Plain accumulation of the input without spatial filtering, clamping or anti-lag (up to
+    // REBLUR_MAX_REFERENCE_FRAME_NUM frames): converges to the truth on a still view.
+    bool forceReferenceAccumulation = false;
+};
+
+constexpr uint32_t REBLUR_MAX_HISTORY_FRAME_NUM = 63;
+constexpr uint32_t REBLUR_MAX_HISTORY_FIX_FRAME_NUM = 3;
+constexpr uint32_t REBLUR_MAX_REFERENCE_FRAME_NUM = 255;
+constexpr float REBLUR_MAX_BLUR_RADIUS = 64.0f;
+
 } // namespace nrd

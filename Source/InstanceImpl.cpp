@@ -195,6 +195,14 @@ Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
         case Method::TILED_SHADOW:
             method.impl = CreateTiledShadow(builder, method.desc.method);
             break;
+        case Method::REBLUR_DIFFUSE:
+        case Method::REBLUR_SPECULAR:
+        case Method::REBLUR_DIFFUSE_SPECULAR:
+        case Method::REBLUR_DIFFUSE_OCCLUSION:
+        case Method::REBLUR_SPECULAR_OCCLUSION:
+        case Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION:
+            method.impl = CreateReblur(builder, method.desc.method);
+            break;
         case Method::MAX_NUM:
             break;
         }

@@ -174,6 +174,7 @@ enum class SettingsKind : uint32_t
     SIGMA,
     REFERENCE,
     TILED_SHADOW,
+    REBLUR,
 };
 
 class MethodBase
@@ -225,6 +226,7 @@ Result ValidateHitDistanceParameters(const HitDistanceParameters& parameters, co
 std::unique_ptr<MethodBase> CreateSigma(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateTiledShadow(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateReference(MethodBuilder& builder, Method method);
+std::unique_ptr<MethodBase> CreateReblur(MethodBuilder& builder, Method method);
 
 class InstanceImpl
 {

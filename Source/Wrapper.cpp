@@ -10,14 +10,18 @@ namespace nrd
 static_assert(NRD_VERSION_MAJOR == 0 && NRD_VERSION_MINOR == 1, "Wrapper.cpp does not match NRD.h");
 
 static const Method kSupportedMethods[] = {Method::SIGMA_SHADOW, Method::SIGMA_SHADOW_TRANSLUCENCY, Method::REFERENCE,
-                                           Method::TILED_SHADOW};
+                                           Method::TILED_SHADOW, Method::REBLUR_DIFFUSE, Method::REBLUR_SPECULAR,
+                                           Method::REBLUR_DIFFUSE_SPECULAR, Method::REBLUR_DIFFUSE_OCCLUSION,
+                                           Method::REBLUR_SPECULAR_OCCLUSION, Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION};
 static_assert(sizeof(kSupportedMethods) / sizeof(kSupportedMethods[0]) == size_t(Method::MAX_NUM),
               "every method must be listed");
 
 static const char* const kResultNames[] = {"SUCCESS", "FAILURE", "INVALID_ARGUMENT", "UNSUPPORTED", "NON_UNIQUE_IDENTIFIER"};
 static_assert(sizeof(kResultNames) / sizeof(kResultNames[0]) == size_t(Result::MAX_NUM), "name table");
 
-static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLUCENCY", "REFERENCE", "TILED_SHADOW"};
+static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLUCENCY", "REFERENCE", "TILED_SHADOW",
+    "REBLUR_DIFFUSE", "REBLUR_SPECULAR", "REBLUR_DIFFUSE_SPECULAR", "REBLUR_DIFFUSE_OCCLUSION", "REBLUR_SPECULAR_OCCLUSION",
+    "REBLUR_DIFFUSE_SPECULAR_OCCLUSION"};
 static_assert(sizeof(kMethodNames) / sizeof(kMethodNames[0]) == size_t(Method::MAX_NUM), "name table");
 
 static const char* const kResourceTypeNames[] = {"IN_MV", "IN_NORMAL_ROUGHNESS", "IN_VIEWZ", "IN_SHADOWDATA",
@@ -154,6 +158,11 @@ Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const TiledS
 Result ValidateHitDistanceParameters(const HitDistanceParameters& parameters, LogCallback logCallback, void* logUserArg)
 {
     return ValidateHitDistanceParameters(parameters, "HitDistanceParameters", Logger(logCallback, logUserArg));
+}
+
+Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReblurSettings& settings)
+{
+    return SetSettings(denoiser, identifier, SettingsKind::REBLUR, &settings);
 }
 
 Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,

@@ -331,6 +331,31 @@ MethodTraits TraitsOf(Method method)
                                                    {Edited<S>([](S& s) { s.debugView = TiledShadowDebug::MAX_NUM; })}));
         break;
     }
+    case Method::REBLUR_DIFFUSE:
+    case Method::REBLUR_SPECULAR:
+    case Method::REBLUR_DIFFUSE_SPECULAR:
+    case Method::REBLUR_DIFFUSE_OCCLUSION:
+    case Method::REBLUR_SPECULAR_OCCLUSION:
+    case Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION:
+    {
+        typedef ReblurSettings S;
+        t.applyDefaults = Apply(S{});
+        t.discoveryVariants = {Edited<S>([](S& s) { s.isConfidenceInput = true; })};
+        t.settingsCases = {
+            SettingsCase("maxAccumulatedFrameNum 0", Edited<S>([](S& s) { s.maxAccumulatedFrameNum = 0; s.maxFastAccumulatedFrameNum = 0; }),
+                         {Edited<S>([](S& s) { s.maxAccumulatedFrameNum = REBLUR_MAX_HISTORY_FRAME_NUM + 1; })}),
+            SettingsCase("blurRadius max, pre-pass max",
+                         Edited<S>([](S& s) { s.blurRadius = REBLUR_MAX_BLUR_RADIUS; s.prePassBlurRadius = REBLUR_MAX_BLUR_RADIUS; }),
+                         {Edited<S>([](S& s) { s.prePassBlurRadius = kNaN; })}),
+            SettingsCase("forceReferenceAccumulation", Edited<S>([](S& s) { s.forceReferenceAccumulation = true; }), {}),
+            SettingsCase("checkerboard", Edited<S>([](S& s) { s.checkerboardMode = CheckerboardMode::BLACK; }),
+                         {Edited<S>([](S& s) { s.checkerboardMode = CheckerboardMode(3); })}),
+            SettingsCase("colour compression and anti-firefly max",
+                         Edited<S>([](S& s) { s.colorCompression = 16.0f; s.antiFireflySigma = 64.0f; }),
+                         {Edited<S>([](S& s) { s.colorCompression = 16.5f; })}),
+        };
+        break;
+    }
     default:
         // A method without an entry here still runs every generic case, with the defaults above.
         break;

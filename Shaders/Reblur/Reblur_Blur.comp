@@ -1,0 +1,104 @@
+// REBLUR spatial passes (document 004, REBLUR: "pre-pass", "blur", "post-blur"): one pipeline, the
+// pass chosen by gPassIndex.
+//
+// A rotated 12-tap Vogel disk on the tangent plane of the centre (its pixel footprint follows the
+// surface's foreshortening), radius from _Reblur_BlurRadius (history length, hit distance,
+// roughness) times gPassRadiusScale; weights from plane distance, lobe-aware normals, roughness,
+// hit distance (specular) and a Gaussian falloff; radiance filtered through the roughness-based
+// colour compression. The pre-pass ignores history (the length it reads is last frame's) and takes
+// only pixels traced this frame (checkerboard); the post-blur rotates the kernel independently.
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "Bindings.glsl"
+#include "Reblur_Blur.resources.h"
+#include "CommonFrame.glsl"
+#include "Reblur_Common.glsl"
+
+#define TAPS 12
+
+vec4 LoadSignal(ivec2 p)
+{
+    if (gPassIndex == 0u)
+        return _Reblur_LoadInput(gIn_Signal, p);
+    vec4 v = texelFetch(sampler2D(gIn_Signal, gNearestClamp), p, 0);
+#if REBLUR_OCCLUSION
+    v.xyz = vec3(0.0);
+#endif
+    return _Reblur_Sanitize(v);
+}
+
+void main()
+{
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), gResourceSize)) || _Reblur_IsSkyTile(gIn_Tiles, pixel))
+        return;
+    float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
+    if (_NRD_IsSky(viewZ))
+        return;
+
+    bool isPrePass = gPassIndex == 0u;
+    bool isTraced = !isPrePass || _Reblur_IsTraced(pixel);
+    vec4 center = LoadSignal(pixel);
+    ReblurSurface s = _Reblur_Surface(gIn_NormalRoughness, pixel, viewZ);
+    float historyLength = isPrePass ? 0.0 : texelFetch(sampler2D(gIn_Fast, gNearestClamp), pixel, 0).y;
+    historyLength = clamp(_NRD_Sanitize(historyLength, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
+    float radius = _Reblur_BlurRadius(historyLength, center.w, viewZ, s.roughness) * gPassRadiusScale;
+    bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
+    if ((isReference || radius < 0.5) && isTraced)
+    {
+        imageStore(gOut_Signal, pixel, center);
+        return;
+    }
+    radius = max(radius, 1.0);
+
+    // Tangent basis scaled so that one unit is 'radius' pixels at the centre.
+    float worldPerPixel = viewZ / gProjectY;
+    vec3 up = abs(s.Nv.z) < 0.999 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
+    vec3 T = normalize(cross(up, s.Nv));
+    vec3 B = cross(s.Nv, T);
+    float angle = _Reblur_KernelAngle(pixel, gPassIndex);
+    float ca = cos(angle), sa = sin(angle);
+    vec3 T1 = (T * ca + B * sa) * (radius * worldPerPixel);
+    vec3 B1 = (B * ca - T * sa) * (radius * worldPerPixel);
+
+    float k = _Reblur_CompressionK(s.roughness);
+    float centerWeight = isTraced ? 1.0 : 0.0;
+    vec4 sum = _Reblur_Compress(center, k) * centerWeight;
+    float weightSum = centerWeight;
+    float hitDistScale = 1.0 / max(center.w, 0.05);
+    for (int t = 0; t < TAPS; t++)
+    {
+        float r = sqrt((float(t) + 0.5) / float(TAPS));
+        float phi = float(t) * 2.39996323;
+        vec2 o = r * vec2(cos(phi), sin(phi));
+        vec3 Xt = s.Xv + T1 * o.x + B1 * o.y;
+        vec4 clip = gViewToClip * vec4(Xt, 1.0);
+        if (!(clip.w > NRD_EPS))
+            continue;
+        ivec2 q = ivec2(floor(((clip.xy / clip.w) * 0.5 + 0.5) * vec2(gResourceSize)));
+        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)))
+            continue;
+        if (isPrePass && !_Reblur_IsTraced(q))
+            continue;
+        float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+        if (_NRD_IsSky(z))
+            continue;
+        vec4 nr = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0));
+        vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
+        vec3 Ns = normalize(transpose(mat3(gViewToWorld)) * nr.xyz);
+        vec4 v = LoadSignal(q);
+        float w = _Reblur_GeometryWeight(s, Xs, Ns, nr.w) * exp(-2.0 * r * r);
+#if REBLUR_SPECULAR
+        // Reflections of different hit distances are different images.
+        w *= clamp(1.0 - abs(v.w - center.w) * hitDistScale * 0.5, 0.0, 1.0);
+#endif
+        sum += _Reblur_Compress(v, k) * w;
+        weightSum += w;
+    }
+    vec4 result = weightSum > 0.0 ? _Reblur_Decompress(sum / weightSum, k) : center;
+#if REBLUR_OCCLUSION
+    result.xyz = vec3(0.0);
+#endif
+    imageStore(gOut_Signal, pixel, _NRD_ClampToHalf(result));
+}

@@ -1,0 +1,250 @@
+// REBLUR: helpers shared by the passes (document 004, REBLUR). Include after the pass's
+// .resources.h and CommonFrame.glsl.
+//
+// Signal: a vec4, .rgb radiance (zero in the occlusion variants), .w normalized hit distance in
+// [0, 1]. REBLUR_SPECULAR selects the specular rules (virtual motion, lobe-aware weights),
+// REBLUR_OCCLUSION the hit-distance-only variants (the denoised hit distance is the AO / SO).
+#ifndef REBLUR_COMMON_GLSL
+#define REBLUR_COMMON_GLSL
+
+// Sky value of the stored viewZ: never within any tolerance of a positive viewZ.
+#define REBLUR_NO_VIEWZ (-1.0)
+
+// Largest radiance kept (fp16 storage, and 1e30 inputs cannot overflow the sums).
+#define REBLUR_MAX_RADIANCE 60000.0
+
+//==================================================================================================
+// Inputs.
+//==================================================================================================
+
+// Sanitized input: non-finite or negative radiance reads as 0, non-finite hit distance as 1 (no
+// hit: the open sky is not occluded), hit distance clamped to [0, 1].
+vec4 _Reblur_Sanitize(vec4 s)
+{
+    vec3 radiance = clamp(_NRD_Sanitize(s.rgb, 0.0), vec3(0.0), vec3(REBLUR_MAX_RADIANCE));
+    return vec4(radiance, clamp(_NRD_Sanitize(s.w, 1.0), 0.0, 1.0));
+}
+
+vec4 _Reblur_LoadInput(texture2D t, ivec2 pixel)
+{
+    vec4 s = texelFetch(sampler2D(t, gNearestClamp), pixel, 0);
+#if REBLUR_OCCLUSION
+    s = vec4(0.0, 0.0, 0.0, s.x);
+#endif
+    return _Reblur_Sanitize(s);
+}
+
+// The value a temporal / spatial pass compares: luminance, or the hit distance (occlusion).
+float _Reblur_Luma(vec4 s)
+{
+#if REBLUR_OCCLUSION
+    return s.w;
+#else
+    return _NRD_Luminance(s.rgb);
+#endif
+}
+
+// Scales the radiance so that its luminance becomes 'luma' (luminance-only stabilization).
+vec4 _Reblur_WithLuma(vec4 s, float luma)
+{
+#if REBLUR_OCCLUSION
+    s.w = luma;
+#else
+    float current = _NRD_Luminance(s.rgb);
+    s.rgb = current > 1e-8 ? s.rgb * (luma / current) : s.rgb;
+#endif
+    return s;
+}
+
+// World-space hit distance of a normalized one (HitDistanceParameters: A + |viewZ| * B, times
+// mix(1, C, exp2(D * roughness^2))).
+float _Reblur_HitDistNormalization(float viewZ, float roughness)
+{
+    return (gHitDistParams.x + abs(viewZ) * gHitDistParams.y) * mix(1.0, gHitDistParams.z, exp2(gHitDistParams.w * roughness * roughness));
+}
+
+bool _Reblur_IsTraced(ivec2 pixel)
+{
+    return gCheckerboard == 0u || uint((pixel.x + pixel.y) & 1) == gCheckerboard - 1u;
+}
+
+bool _Reblur_IsSkyTile(texture2D tiles, ivec2 pixel)
+{
+    return texelFetch(sampler2D(tiles, gNearestClamp), pixel / REBLUR_TILE_SIZE, 0).x < 0.5;
+}
+
+//==================================================================================================
+// Geometry.
+//==================================================================================================
+
+struct ReblurSurface
+{
+    vec3 Xv;       // view-space position
+    vec3 Nv;       // view-space normal
+    vec3 N;        // world-space normal
+    float roughness;
+    float viewZ;
+};
+
+ReblurSurface _Reblur_Surface(texture2D normalRoughness, ivec2 pixel, float viewZ)
+{
+    ReblurSurface s;
+    vec4 nr = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(normalRoughness, gNearestClamp), pixel, 0));
+    s.N = nr.xyz;
+    s.roughness = nr.w;
+    s.Nv = normalize(transpose(mat3(gViewToWorld)) * s.N);
+    s.Xv = _NRD_ViewPosition(_NRD_PixelUv(pixel), viewZ);
+    s.viewZ = viewZ;
+    return s;
+}
+
+// Half-angle of the specular lobe that holds most of its energy (radians), from linear roughness.
+float _Reblur_LobeHalfAngle(float roughness)
+{
+    float a = roughness * roughness;
+    return atan(a * 0.75); // ~75% of the GGX energy lies within atan(0.75 a) of the dominant direction
+}
+
+// Spatial weight of a neighbour: plane distance, normal (lobe-aware for specular), roughness.
+float _Reblur_GeometryWeight(ReblurSurface c, vec3 Xs, vec3 Ns, float roughnessS)
+{
+    float planeDistance = abs(dot(c.Nv, Xs - c.Xv));
+    float w = clamp(1.0 - planeDistance / (gPlaneDistanceSensitivity * c.viewZ), 0.0, 1.0);
+    float cosAngle = clamp(dot(c.Nv, Ns), -1.0, 1.0);
+#if REBLUR_SPECULAR
+    float maxAngle = max(_Reblur_LobeHalfAngle(c.roughness) * gLobeAngleFraction, 0.02);
+    w *= clamp(1.0 - acos(cosAngle) / maxAngle, 0.0, 1.0);
+    w *= clamp(1.0 - abs(c.roughness - roughnessS) / (gRoughnessFraction * max(c.roughness, 0.05)), 0.0, 1.0);
+#else
+    w *= smoothstep(0.5, 0.95, cosAngle);
+#endif
+    return w;
+}
+
+//==================================================================================================
+// Colour compression of the spatial passes: radiance / (1 + k * luminance) before weighting and
+// its inverse after, so a single bright sample cannot dominate the weighted sum; k grows for
+// smooth specular (narrow lobes, where fireflies are spikiest) and is small for rough / diffuse.
+//==================================================================================================
+
+float _Reblur_CompressionK(float roughness)
+{
+#if REBLUR_OCCLUSION
+    return 0.0;
+#elif REBLUR_SPECULAR
+    return gColorCompression * (1.0 - roughness);
+#else
+    return gColorCompression * 0.25;
+#endif
+}
+
+vec4 _Reblur_Compress(vec4 s, float k)
+{
+    return vec4(s.rgb / (1.0 + k * _NRD_Luminance(s.rgb)), s.w);
+}
+
+vec4 _Reblur_Decompress(vec4 s, float k)
+{
+    float l = _NRD_Luminance(s.rgb);
+    return vec4(s.rgb / max(1.0 - k * l, 1e-3), s.w);
+}
+
+//==================================================================================================
+// Blur radius rules: widest on short history, far hits (diffuse: wide indirect light) and rough
+// lobes (specular); a mirror is not blurred.
+//==================================================================================================
+
+float _Reblur_HitDistFactor(float normHitDist, float viewZ, float roughness)
+{
+    float hitDist = normHitDist * _Reblur_HitDistNormalization(viewZ, roughness);
+    return clamp(hitDist / (hitDist + abs(viewZ) * 0.1 + 1e-4), 0.1, 1.0);
+}
+
+float _Reblur_BlurRadius(float historyLength, float normHitDist, float viewZ, float roughness)
+{
+    float historyScale = 1.0 / sqrt(1.0 + historyLength);
+    float r = gBlurRadius * historyScale * _Reblur_HitDistFactor(normHitDist, viewZ, roughness);
+#if REBLUR_SPECULAR
+    float lobe = clamp(roughness * 2.0, 0.0, 1.0);
+    r *= lobe;
+    return max(r, gMinBlurRadius * lobe);
+#else
+    return max(r, gMinBlurRadius);
+#endif
+}
+
+// Per-pixel, per-frame, per-pass rotation of the sparse kernel.
+float _Reblur_KernelAngle(ivec2 pixel, uint salt)
+{
+    uint seed = uint(pixel.x) * 0x9e3779b1u ^ uint(pixel.y) * 0x85ebca77u ^ (gFrameIndex * 3u + salt) * 0xc2b2ae3du;
+    return _NRD_Random01(seed) * (2.0 * NRD_PI);
+}
+
+//==================================================================================================
+// Reprojection (shared by the temporal passes).
+//==================================================================================================
+
+struct ReblurReprojection
+{
+    NrdReprojection surface;
+    NrdReprojection virtual_; // Specular only; equals 'surface' otherwise.
+    float virtualAmount;      // Blend of the virtual history, [0, 1].
+};
+
+ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSurface s, vec3 mv, float normHitDist)
+{
+    vec2 uv = _NRD_PixelUv(pixel);
+    vec3 X = (gViewToWorld * vec4(s.Xv, 1.0)).xyz;
+    vec3 Xprev;
+    vec2 uvPrev = _NRD_PreviousUv(uv, X, mv, Xprev);
+    float expectedViewZ = _NRD_PreviousViewZ(Xprev);
+    float NoV = abs(dot(s.Nv, normalize(s.Xv)));
+    float tolerance = _NRD_DisocclusionTolerance(s.viewZ, expectedViewZ, NoV, gDisocclusionThreshold, gProjectY);
+    ivec2 size = ivec2(gResourceSize);
+    ReblurReprojection r;
+    NrdFootprint f = _NRD_Footprint(uvPrev, vec2(size));
+    r.surface = _NRD_Reprojection(uvPrev, size, _NRD_GatherFootprint(prevViewZ, f.origin, size), expectedViewZ, tolerance);
+    if (gResetHistory != 0u)
+        r.surface.weights = vec4(0.0), r.surface.footprintWeight = 0.0, r.surface.isCatmullRomAllowed = false;
+    r.virtual_ = r.surface;
+    r.virtualAmount = 0.0;
+#if REBLUR_SPECULAR
+    // The virtual image moves with the surface (world motion where known) and is seen through the
+    // previous camera; its viewZ test uses the surface's own depth (the history stores surfaces).
+    float hitDist = normHitDist * _Reblur_HitDistNormalization(s.viewZ, s.roughness);
+    vec3 motion = Xprev - X;
+    vec2 uvVirtual = _NRD_VirtualPreviousUv(X, motion, _NRD_CameraPosition(), hitDist, s.roughness, gWorldToClipPrev);
+    if (gMotionVectorScale.w == 0.0 && (gMotionVectorScale.x != 0.0 || gMotionVectorScale.y != 0.0))
+        uvVirtual += uvPrev - _NRD_ProjectPrev(X, gWorldToClipPrev); // 2D motion: add the object's part
+    NrdFootprint fv = _NRD_Footprint(uvVirtual, vec2(size));
+    r.virtual_ = _NRD_Reprojection(uvVirtual, size, _NRD_GatherFootprint(prevViewZ, fv.origin, size), expectedViewZ,
+                                   tolerance * 2.0);
+    if (gResetHistory != 0u)
+        r.virtual_.weights = vec4(0.0), r.virtual_.footprintWeight = 0.0, r.virtual_.isCatmullRomAllowed = false;
+    float d = _NRD_SpecularDominantFactor(s.roughness);
+    float vw = d * r.virtual_.footprintWeight;
+    float sw = (1.0 - d) * r.surface.footprintWeight;
+    r.virtualAmount = vw + sw > 1e-6 ? vw / (vw + sw) : 0.0;
+    // Without parallax both land on the same texels: prefer the surface footprint (sharper validity).
+    if (_NRD_ParallaxInPixels(uvPrev, uvVirtual, vec2(size)) < 0.01)
+        r.virtualAmount = 0.0;
+#endif
+    return r;
+}
+
+// History fetched along a reprojection: Catmull-Rom where the footprint is whole, else bilinear.
+vec4 _Reblur_FetchHistory(texture2D history, NrdReprojection r)
+{
+    if (r.footprintWeight <= 0.0)
+        return vec4(0.0);
+    if (r.isCatmullRomAllowed)
+    {
+        vec4 cr = _NRD_CatmullRomHistory(history, r.footprint, ivec2(gResourceSize));
+        vec4 bl = _NRD_BilinearHistory(history, r);
+        // Catmull-Rom rings next to edges: soften it slightly towards bilinear, never negative.
+        return max(mix(bl, cr, 0.85), vec4(0.0));
+    }
+    return _NRD_BilinearHistory(history, r);
+}
+
+#endif

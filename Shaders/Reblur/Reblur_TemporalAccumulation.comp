@@ -1,0 +1,147 @@
+// REBLUR temporal accumulation (document 004, REBLUR: "temporal accumulation" with fast and slow
+// history, virtual motion for specular).
+//
+// Slow history: up to gMaxAccumulatedFrameNum frames (running mean, then exponential). Fast history:
+// the luminance accumulated over at most gMaxFastAccumulatedFrameNum frames; where the slow
+// luminance leaves the fast one by more than gAntilagSigmaScale of the fast history's expected
+// noise, the history length is cut towards the fast length and the slow value is moved onto the
+// fast one (anti-lag). Confidence (optional) shortens the history where < 1. Specular blends the
+// surface-motion and virtual-motion histories (_Reblur_Reproject). Checkerboard: the pixels not
+// traced this frame take history only (or, without history, their traced horizontal neighbours).
+#version 450
+#extension GL_GOOGLE_include_directive : require
+
+#include "Bindings.glsl"
+#include "Reblur_TemporalAccumulation.resources.h"
+#include "CommonFrame.glsl"
+#include "Reblur_Common.glsl"
+
+void main()
+{
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(uvec2(pixel), gResourceSize)) || _Reblur_IsSkyTile(gIn_Tiles, pixel))
+        return;
+    float viewZ = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
+    if (_NRD_IsSky(viewZ))
+        return;
+
+    // Current sample (the pre-pass result when it ran).
+    bool isTraced = _Reblur_IsTraced(pixel);
+    vec4 current;
+    if ((gFlags & REBLUR_FLAG_PREPASS) != 0u)
+        current = _Reblur_Sanitize(imageLoad(gInOut_Signal, pixel));
+    else if (isTraced)
+        current = _Reblur_LoadInput(gIn_Signal, pixel);
+    else
+    {
+        // Untraced checkerboard pixel: its horizontal neighbours were traced.
+        ivec2 l = ivec2(max(pixel.x - 1, 0), pixel.y);
+        ivec2 r = ivec2(min(pixel.x + 1, int(gResourceSize.x) - 1), pixel.y);
+        current = 0.5 * (_Reblur_LoadInput(gIn_Signal, l) + _Reblur_LoadInput(gIn_Signal, r));
+    }
+
+    ReblurSurface s = _Reblur_Surface(gIn_NormalRoughness, pixel, viewZ);
+    vec3 mv = texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz;
+    ReblurReprojection rp = _Reblur_Reproject(gPrev_ViewZ, pixel, s, mv, current.w);
+
+    // Histories along the surface motion (and, specular, the virtual motion).
+    vec4 slow = _Reblur_FetchHistory(gPrev_History, rp.surface);
+    vec2 fastLength = _NRD_BilinearHistory(gPrev_Fast, rp.surface).xy;
+    float stabilized = _NRD_BilinearHistory(gPrev_Stabilized, rp.surface).x;
+    float footprint = rp.surface.footprintWeight;
+#if REBLUR_SPECULAR
+    if (rp.virtualAmount > 0.0)
+    {
+        vec4 slowV = _Reblur_FetchHistory(gPrev_History, rp.virtual_);
+        vec2 fastLengthV = _NRD_BilinearHistory(gPrev_Fast, rp.virtual_).xy;
+        float stabilizedV = _NRD_BilinearHistory(gPrev_Stabilized, rp.virtual_).x;
+        // How well the virtual history matches: its hit distance should agree with the surface
+        // history's on a mirror-like reflection; a mismatch moves the blend back to the surface.
+        float a = rp.virtualAmount;
+        if (footprint > 0.0)
+            a *= clamp(1.0 - abs(slowV.w - slow.w) * 4.0, 0.25, 1.0);
+        slow = footprint > 0.0 ? mix(slow, slowV, a) : slowV;
+        fastLength = footprint > 0.0 ? mix(fastLength, fastLengthV, a) : fastLengthV;
+        stabilized = footprint > 0.0 ? mix(stabilized, stabilizedV, a) : stabilizedV;
+        footprint = mix(footprint, rp.virtual_.footprintWeight, a);
+    }
+#endif
+    slow = _Reblur_Sanitize(slow);
+    float fast = max(_NRD_Sanitize(fastLength.x, 0.0), 0.0);
+    float historyLength = clamp(floor(_NRD_Sanitize(fastLength.y, 0.0) + 0.5), 0.0, gMaxAccumulatedFrameNum);
+    stabilized = max(_NRD_Sanitize(stabilized, 0.0), 0.0);
+    // A partly disoccluded footprint counts as a shorter history.
+    historyLength = footprint > 0.01 ? floor(historyLength * min(footprint * 1.25, 1.0) + 0.5) : 0.0;
+
+    if ((gFlags & REBLUR_FLAG_CONFIDENCE) != 0u)
+    {
+        float confidence = clamp(_NRD_Sanitize(texelFetch(sampler2D(gIn_Confidence, gNearestClamp), pixel, 0).x, 1.0), 0.0, 1.0);
+        historyLength = floor(historyLength * confidence);
+    }
+
+    bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
+    float maxLength = isReference ? NRD_HISTORY_LENGTH_MAX : max(gMaxAccumulatedFrameNum, 1.0);
+    float luma = _Reblur_Luma(current);
+
+    if (historyLength == 0.0)
+    {
+        slow = current;
+        fast = luma;
+        stabilized = luma;
+    }
+    else if (!isReference)
+    {
+        // The fast history follows "now": it is clamped to the 3x3 input neighbourhood (mean +- 2
+        // sigma), so a lighting change or a burst of bad values leaves it within a few frames.
+        float m1 = 0.0, m2 = 0.0, count = 0.0;
+        ivec2 maxPixel = ivec2(gResourceSize) - 1;
+        for (int j = -1; j <= 1; j++)
+        {
+            for (int i = -1; i <= 1; i++)
+            {
+                ivec2 q = clamp(pixel + ivec2(i, j), ivec2(0), maxPixel);
+                if (!_Reblur_IsTraced(q))
+                    continue;
+                float l = _Reblur_Luma(_Reblur_LoadInput(gIn_Signal, q));
+                m1 += l;
+                m2 += l * l;
+                count += 1.0;
+            }
+        }
+        m1 /= max(count, 1.0);
+        float sigma = sqrt(max(m2 / max(count, 1.0) - m1 * m1, 0.0));
+        fast = clamp(fast, m1 - 2.0 * sigma, m1 + 2.0 * sigma);
+
+        // Anti-lag: the slow history must agree with the fast one within the expected noise of a
+        // mean of n frames (the neighbourhood's deviation as the per-frame scale).
+        float n = min(historyLength, gMaxFastAccumulatedFrameNum);
+        float slowLuma = _Reblur_Luma(slow);
+        float fastUpdated = mix(fast, luma, 1.0 / (n + 1.0));
+        float noise = (sigma + 0.05 * max(fastUpdated, slowLuma) + 1e-4) / sqrt(n + 1.0);
+        float excess = abs(slowLuma - fastUpdated) / (gAntilagSigmaScale * noise) - 1.0;
+        if (excess > 0.0)
+        {
+            float keep = 1.0 / (1.0 + excess);
+            historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
+            historyLength = min(historyLength, max(gMaxFastAccumulatedFrameNum, 1.0));
+            slow = _Reblur_WithLuma(slow, mix(fastUpdated, slowLuma, keep));
+        }
+    }
+
+    // Accumulation (checkerboard: untraced pixels keep their history).
+    bool isSampled = isTraced || historyLength == 0.0 || (gFlags & REBLUR_FLAG_PREPASS) != 0u;
+    float newLength = min(historyLength + (isSampled ? 1.0 : 0.0), maxLength);
+    if (isSampled)
+    {
+        slow = mix(slow, current, 1.0 / newLength);
+        fast = mix(fast, luma, 1.0 / max(min(newLength, gMaxFastAccumulatedFrameNum + 1.0), 1.0));
+    }
+
+    vec4 aux = vec4(fast, newLength, stabilized, 0.0);
+#if REBLUR_OCCLUSION
+    imageStore(gInOut_Signal, pixel, vec4(aux.xyz, slow.w)); // .xyz are free: auxiliary values
+#else
+    imageStore(gInOut_Signal, pixel, slow);
+    imageStore(gOut_Aux, pixel, aux);
+#endif
+}
