@@ -57,9 +57,12 @@ vec4 _Reblur_WithLuma(vec4 s, float luma)
 }
 
 // World-space hit distance of a normalized one (HitDistanceParameters: A + |viewZ| * B, times
-// mix(1, C, exp2(D * roughness^2))).
+// mix(1, C, exp2(D * roughness^2))); diffuse signals are normalized with roughness 1.
 float _Reblur_HitDistNormalization(float viewZ, float roughness)
 {
+#if !REBLUR_SPECULAR
+    roughness = 1.0;
+#endif
     return (gHitDistParams.x + abs(viewZ) * gHitDistParams.y) * mix(1.0, gHitDistParams.z, exp2(gHitDistParams.w * roughness * roughness));
 }
 
