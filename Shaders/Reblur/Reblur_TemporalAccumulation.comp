@@ -25,8 +25,13 @@ void main()
     if (_NRD_IsSky(viewZ))
         return;
 
-    // Current sample (the pre-pass result when it ran).
-    bool isTraced = _Reblur_IsTraced(pixel);
+    // Current sample (the pre-pass result when it ran). A non-finite sample carries no information:
+    // the pixel is treated as not traced this frame (it keeps its history).
+    vec4 raw = texelFetch(sampler2D(gIn_Signal, gNearestClamp), pixel, 0);
+#if REBLUR_OCCLUSION
+    raw = raw.xxxx;
+#endif
+    bool isTraced = _Reblur_IsTraced(pixel) && _NRD_IsFinite(raw);
     vec4 current;
     if ((gFlags & REBLUR_FLAG_PREPASS) != 0u)
         current = _Reblur_Sanitize(imageLoad(gInOut_Signal, pixel));
