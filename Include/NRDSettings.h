@@ -180,17 +180,6 @@ constexpr uint32_t TILED_SHADOW_COUNTERS_SKY_TILES = 1;      // Other tiles skip
 constexpr uint32_t TILED_SHADOW_COUNTERS_TOTAL_TILES = 2;    // DivideUp(width, 8) * DivideUp(height, 4).
 constexpr uint32_t TILED_SHADOW_COUNTERS_FRAME = 3;          // Frame number n.
 
-// Normalization of hit distances (REBLUR, RELAX; document 004): a hit distance is stored as
-// hitDist / f in [0, 1] with f = (A + |viewZ| * B) * lerp(1, C, exp2(D * linearRoughness^2)), so
-// that the shading pass and the denoiser agree on its scale (REBLUR_FrontEnd_GetNormHitDist).
-struct HitDistanceParameters
-{
-    float A = 3.0f;   // Constant part, world units, > 0.
-    float B = 0.1f;   // Part proportional to |viewZ|, >= 0.
-    float C = 20.0f;  // Scale for smooth surfaces, >= 1.
-    float D = -25.0f; // Roughness falloff of C, <= 0.
-};
-
 // REBLUR checkerboard input: which pixels carry a traced sample this frame.
 enum class CheckerboardMode : uint8_t
 {

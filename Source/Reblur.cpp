@@ -106,15 +106,9 @@ template <class To> To Cast(const Constants& from)
 
 Result ValidateReblurSettings(const ReblurSettings& s, const Logger& log)
 {
-    const HitDistanceParameters& h = s.hitDistanceParameters;
-    if (!(std::isfinite(h.A) && h.A > 0.0f) || !(std::isfinite(h.B) && h.B >= 0.0f) ||
-        !(std::isfinite(h.C) && h.C >= 1.0f) || !(std::isfinite(h.D) && h.D <= 0.0f))
-    {
-        log.Error("SetMethodSettings: ReblurSettings::hitDistanceParameters (%g, %g, %g, %g) need A > 0, B >= 0, "
-                  "C >= 1, D <= 0",
-                  double(h.A), double(h.B), double(h.C), double(h.D));
+    if (ValidateHitDistanceParameters(s.hitDistanceParameters, "ReblurSettings::hitDistanceParameters", log) !=
+        Result::SUCCESS)
         return Result::INVALID_ARGUMENT;
-    }
     struct UintRange
     {
         const char* name;

@@ -56,14 +56,14 @@ vec4 _Reblur_WithLuma(vec4 s, float luma)
     return s;
 }
 
-// World-space hit distance of a normalized one (HitDistanceParameters: A + |viewZ| * B, times
-// mix(1, C, exp2(D * roughness^2))); diffuse signals are normalized with roughness 1.
+// World-space hit distance per unit of normalized hit distance (HitDistanceParameters, shared with
+// the front end); diffuse signals are normalized with roughness 1.
 float _Reblur_HitDistNormalization(float viewZ, float roughness)
 {
 #if !REBLUR_SPECULAR
     roughness = 1.0;
 #endif
-    return (gHitDistParams.x + abs(viewZ) * gHitDistParams.y) * mix(1.0, gHitDistParams.z, exp2(gHitDistParams.w * roughness * roughness));
+    return _NRD_GetHitDistNormalization(viewZ, gHitDistParams, roughness);
 }
 
 bool _Reblur_IsTraced(ivec2 pixel)
