@@ -207,6 +207,9 @@ struct MethodTraits
     SettingsCall applyDefaults;                      // Default settings of the method.
     std::vector<SettingsCall> discoveryVariants;     // Settings that change which inputs are read.
     std::vector<Case> settingsCases;                 // At the documented limits.
+    // Another method whose dispatches include every dispatch of this one (same passes, same
+    // shaders): its cases stand for this method's, which are not registered again (CI time).
+    Method coveredBy = Method::MAX_NUM;
 };
 
 template <class T>
@@ -339,6 +342,11 @@ MethodTraits TraitsOf(Method method)
     case Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION:
     {
         typedef ReblurSettings S;
+        // The single-signal methods run a subset of their pair's dispatches (Source/Reblur.cpp).
+        if (method == Method::REBLUR_DIFFUSE || method == Method::REBLUR_SPECULAR)
+            t.coveredBy = Method::REBLUR_DIFFUSE_SPECULAR;
+        if (method == Method::REBLUR_DIFFUSE_OCCLUSION || method == Method::REBLUR_SPECULAR_OCCLUSION)
+            t.coveredBy = Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION;
         t.applyDefaults = Apply(S{});
         t.discoveryVariants = {Edited<S>([](S& s) { s.isConfidenceInput = true; })};
         t.settingsCases = {
@@ -1306,6 +1314,8 @@ bool RegisterCases()
     {
         Method method = library.supportedMethods[m];
         MethodTraits traits = TraitsOf(method);
+        if (traits.coveredBy != Method::MAX_NUM)
+            continue;
         std::vector<ResourceType> inputs, outputs;
         DiscoverResources(method, traits, inputs, outputs);
         uint32_t reads = 0;

@@ -20,6 +20,7 @@ const AdapterFamily kFamilies[] = {
     {CreateSigmaAdapter, kSigmaSettingsKey},
     {CreateReferenceAdapter, kReferenceSettingsKey},
     {CreateTiledShadowAdapter, kTiledShadowSettingsKey},
+    {CreateReblurAdapter, kReblurSettingsKey},
 };
 
 } // namespace

@@ -26,6 +26,10 @@ extern const char* const kReferenceSettingsKey;
 std::unique_ptr<MethodAdapter> CreateTiledShadowAdapter(const std::string& method);
 extern const char* const kTiledShadowSettingsKey;
 
+// REBLUR_* (diffuse / specular, and the occlusion variants).
+std::unique_ptr<MethodAdapter> CreateReblurAdapter(const std::string& method);
+extern const char* const kReblurSettingsKey;
+
 // Shared by the adapters: the lab's noisy input and truth of the shadow, diffuse and specular
 // signals in their compared channels (shadow: 1, diffuse / specular: rgb radiance,
 // diffuse_occlusion / specular_occlusion: 1, the normalized hit distance).
