@@ -1,13 +1,11 @@
-// REBLUR_* on the lab's diffuse and specular signals. The lab's hit distances are in world units:
-// they are normalized here as REBLUR_FrontEnd_GetNormHitDist does (diffuse with roughness 1), with
-// the method's HitDistanceParameters. The compared channels are the radiance (rgb); the occlusion
-// variants compare the normalized hit distance against the normalized mean hit distance of the truth.
+// REBLUR_* on the lab's diffuse and specular signals (packed as radiance + normalized hit distance
+// with the default HitDistanceParameters, which the method uses too). The radiance methods compare
+// rgb ("diffuse", "specular"), the occlusion variants the normalized hit distance
+// ("diffuse_occlusion", "specular_occlusion").
 #include "Adapters.h"
 
 #include "NRDIntegration.h"
 
-#include <algorithm>
-#include <cmath>
 
 namespace nrdlab
 {
@@ -26,9 +24,9 @@ public:
     {
         std::vector<std::string> signals;
         if (m_Diffuse)
-            signals.push_back("diffuse");
+            signals.push_back(m_Occlusion ? "diffuse_occlusion" : "diffuse");
         if (m_Specular)
-            signals.push_back("specular");
+            signals.push_back(m_Occlusion ? "specular_occlusion" : "specular");
         return signals;
     }
     // Both signals are rendered for a diffuse + specular method (both inputs are read).
@@ -38,11 +36,7 @@ public:
     }
     void GetSignalImages(const FrameData& f, const std::string& signal, Image& noisy, Image& truth) const override
     {
-        if (!m_Occlusion)
-            return GetLabSignalImages(f, signal, noisy, truth);
-        bool diffuse = signal == "diffuse";
-        noisy = NormalizedHitDistance(f, diffuse ? f.diffuse : f.specular, diffuse);
-        truth = NormalizedHitDistance(f, diffuse ? f.diffuseTruth : f.specularTruth, diffuse);
+        GetLabSignalImages(f, signal, noisy, truth);
     }
 
     const char* GetSettingsKey() const override { return kReblurSettingsKey; }
@@ -85,23 +79,23 @@ public:
             if (diffuse ? !m_Diffuse : !m_Specular)
                 continue;
             const Image& signal = diffuse ? f.diffuse : f.specular;
-            Image norm = NormalizedHitDistance(f, signal, diffuse);
             if (m_Occlusion)
             {
-                inputs.push_back({diffuse ? R::IN_DIFF_HITDIST : R::IN_SPEC_HITDIST, F::R16_SFLOAT, norm.pixels});
-                continue;
+                std::vector<float> hitDist(size_t(signal.width) * signal.height);
+                for (size_t i = 0; i < hitDist.size(); i++)
+                    hitDist[i] = signal.pixels[i * signal.channels + 3];
+                inputs.push_back({diffuse ? R::IN_DIFF_HITDIST : R::IN_SPEC_HITDIST, F::R16_SFLOAT, hitDist});
             }
-            std::vector<float> packed = ExpandChannels(signal, 4);
-            for (size_t i = 0; i < norm.pixels.size(); i++)
-                packed[i * 4 + 3] = norm.pixels[i];
-            inputs.push_back({diffuse ? R::IN_DIFF_RADIANCE_HITDIST : R::IN_SPEC_RADIANCE_HITDIST, F::RGBA16_SFLOAT, packed});
+            else
+                inputs.push_back({diffuse ? R::IN_DIFF_RADIANCE_HITDIST : R::IN_SPEC_RADIANCE_HITDIST, F::RGBA16_SFLOAT,
+                                  ExpandChannels(signal, 4)});
         }
     }
 
     nrd::ResourceType GetOutput(const std::string& signal) const override
     {
         using R = nrd::ResourceType;
-        if (signal == "diffuse")
+        if (signal == "diffuse" || signal == "diffuse_occlusion")
             return m_Occlusion ? R::OUT_DIFF_HITDIST : R::OUT_DIFF_RADIANCE_HITDIST;
         return m_Occlusion ? R::OUT_SPEC_HITDIST : R::OUT_SPEC_RADIANCE_HITDIST;
     }
@@ -111,24 +105,6 @@ public:
     }
 
 private:
-    // REBLUR_FrontEnd_GetNormHitDist on the CPU (NaN / negative: 0; no hit: 1).
-    Image NormalizedHitDistance(const FrameData& f, const Image& signal, bool diffuse) const
-    {
-        const nrd::HitDistanceParameters& p = m_Settings.hitDistanceParameters;
-        Image out(signal.width, signal.height, 1);
-        for (size_t i = 0; i < out.pixels.size(); i++)
-        {
-            float d = signal.pixels[i * signal.channels + 3];
-            d = std::isnan(d) ? 0.0f : std::max(d, 0.0f);
-            float z = std::fabs(f.viewZ.pixels[i]);
-            z = std::isfinite(z) ? z : 0.0f;
-            float r = diffuse ? 1.0f : std::min(std::max(f.normalRoughness.pixels[i * 4 + 3], 0.0f), 1.0f);
-            float norm = (p.A + z * p.B) * (1.0f + (p.C - 1.0f) * std::min(std::exp2(p.D * r * r), 1.0f));
-            out.pixels[i] = d >= kNoHitDistance ? 1.0f : std::min(d / norm, 1.0f);
-        }
-        return out;
-    }
-
     bool m_Diffuse, m_Specular, m_Occlusion;
     nrd::ReblurSettings m_Settings;
 };
