@@ -481,6 +481,7 @@ void main()
         bool isContradicted =
             isUnlikely && isMoving && support < TS_CONTRADICTION * footprint && shadowedNeighbors >= 1;
         bool isRestarted = isUnlikely && !isContradicted && shadowedNeighbors >= TS_CONTRADICTION_WIDE_NEIGHBORS;
+        float structure = -1.0; // ChangesRelativeToNoise, computed where a rule needs it.
         bool isDisoccluded = footprint < 0.01 || isRestarted;
         history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
 
@@ -570,9 +571,18 @@ void main()
         // 'result'). Outside a penumbra the sample is exact, while a history resampled every frame
         // cannot hold a sharp or thin shadow still; there a light leak into the umbra would be the
         // largest error in relative terms.
+        // The same holds where the history is short (a disocclusion, a restart, a shadow that just
+        // arrived): it cannot yet tell a penumbra from a sharp shadow, and the boosted filter would
+        // spread the light around into a thin umbra (the common case at low resolutions, where
+        // penumbrae are under a pixel wide and a 1-spp shadowed sample is exact).
         bool isSharpShadow =
-            sample0 == 0.0 && isMoving && !IsNoisyPattern(near) &&
-            ChangesRelativeToNoise(local, groupOrigin, isInterior) < TS_STRUCTURE;
+            sample0 == 0.0 && (isMoving || isUnlikely || samples < TS_SPATIAL_BOOST_SAMPLES) && !IsNoisyPattern(near);
+        if (isSharpShadow)
+        {
+            if (structure < 0.0)
+                structure = ChangesRelativeToNoise(local, groupOrigin, isInterior);
+            isSharpShadow = structure < TS_STRUCTURE;
+        }
         if ((isContradicted && !isDisoccluded) || isSharpShadow)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
