@@ -575,8 +575,7 @@ void main()
         // arrived): it cannot yet tell a penumbra from a sharp shadow, and the boosted filter would
         // spread the light around into a thin umbra (the common case at low resolutions, where
         // penumbrae are under a pixel wide and a 1-spp shadowed sample is exact).
-        bool isSharpShadow =
-            sample0 == 0.0 && (isMoving || isUnlikely || samples < TS_SPATIAL_BOOST_SAMPLES) && !IsNoisyPattern(near);
+        bool isSharpShadow = sample0 == 0.0 && (isMoving || samples < TS_SPATIAL_BOOST_SAMPLES) && !IsNoisyPattern(near);
         if (isSharpShadow)
         {
             if (structure < 0.0)
