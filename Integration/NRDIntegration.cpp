@@ -291,6 +291,7 @@ void Integration::Destroy()
     m_MethodSettings.clear();
     m_SlotIndex = 0;
     m_LastSlot = -1;
+    m_DenoiseCalls = 0;
 }
 
 Result Integration::SetCommonSettings(const CommonSettings& settings)
@@ -631,6 +632,7 @@ VkResult Integration::Denoise(VkCommandBuffer commandBuffer, const Identifier* i
             ClearPools(cmd);
 
         slot.dispatchNames.clear();
+        slot.dispatches.clear();
         if (slot.queries)
         {
             m_Device->CmdResetQueries(cmd, *slot.queries, 0, dispatchesNum + 1);
@@ -646,10 +648,18 @@ VkResult Integration::Denoise(VkCommandBuffer commandBuffer, const Identifier* i
             if (slot.queries)
                 m_Device->CmdWriteTimestamp(cmd, *slot.queries, d + 1);
             slot.dispatchNames.push_back(dispatches[d].name);
+            RecordedDispatch recorded;
+            recorded.name = dispatches[d].name;
+            recorded.resources.assign(dispatches[d].resources, dispatches[d].resources + dispatches[d].resourcesNum);
+            recorded.gridWidth = dispatches[d].gridWidth;
+            recorded.gridHeight = dispatches[d].gridHeight;
+            recorded.isIndirect = dispatches[d].isIndirect;
+            slot.dispatches.push_back(std::move(recorded));
         }
         m_Device->CmdEndLabel(cmd);
 
         m_LastSlot = (int32_t)m_SlotIndex;
+        m_DenoiseCalls++;
         m_SlotIndex = (m_SlotIndex + 1) % (uint32_t)m_Slots.size();
     }
 
@@ -669,13 +679,21 @@ VkResult Integration::Denoise(VkCommandBuffer commandBuffer, const Identifier* i
 
 std::vector<DispatchTiming> Integration::GetLastTimings(double* outTotalMilliseconds)
 {
+    return GetTimings(0, outTotalMilliseconds);
+}
+
+std::vector<DispatchTiming> Integration::GetTimings(uint32_t callsBack, double* outTotalMilliseconds)
+{
     std::vector<DispatchTiming> timings;
     if (outTotalMilliseconds)
         *outTotalMilliseconds = 0.0;
-    if (m_LastSlot < 0 || !m_Slots[m_LastSlot].queries)
+    const uint32_t slotsNum = (uint32_t)m_Slots.size();
+    if (m_LastSlot < 0 || callsBack >= slotsNum || callsBack >= m_DenoiseCalls)
+        return timings;
+    FrameSlot& slot = m_Slots[((uint32_t)m_LastSlot + slotsNum - callsBack) % slotsNum];
+    if (!slot.queries)
         return timings;
 
-    FrameSlot& slot = m_Slots[m_LastSlot];
     uint32_t num = (uint32_t)slot.dispatchNames.size();
     std::vector<uint64_t> ticks(num + 1);
     if (m_Device->GetTimestamps(*slot.queries, 0, num + 1, ticks.data()) != rhi::Result::SUCCESS)
@@ -687,6 +705,13 @@ std::vector<DispatchTiming> Integration::GetLastTimings(double* outTotalMillisec
     if (outTotalMilliseconds)
         *outTotalMilliseconds = double(ticks[num] - ticks[0]) * msPerTick;
     return timings;
+}
+
+std::vector<RecordedDispatch> Integration::GetLastDispatches() const
+{
+    if (m_LastSlot < 0)
+        return {};
+    return m_Slots[m_LastSlot].dispatches;
 }
 
 Integration::PoolImage Integration::GetPoolImage(ResourceType type, uint32_t index) const

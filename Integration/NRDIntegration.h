@@ -74,6 +74,15 @@ struct DispatchTiming
     double milliseconds = 0.0;  // GPU time from the end of the previous dispatch (its barriers included).
 };
 
+// What one recorded dispatch bound, copied from its DispatchDesc (for byte counts, debugging).
+struct RecordedDispatch
+{
+    const char* name = nullptr;          // DispatchDesc::name (static storage).
+    std::vector<ResourceDesc> resources; // In binding order.
+    uint16_t gridWidth = 0, gridHeight = 0;
+    bool isIndirect = false;
+};
+
 // Device memory of the Integration's own resources, from their VkMemoryRequirements.
 struct MemoryReport
 {
@@ -137,6 +146,15 @@ public:
     // last one's end.
     std::vector<DispatchTiming> GetLastTimings(double* outTotalMilliseconds = nullptr);
 
+    // As GetLastTimings for an earlier Denoise call: 'callsBack' 0 is the last one, 1 the one before,
+    // up to framesInFlight - 1 (several calls recorded back to back, then read once all completed).
+    // Empty if 'callsBack' is out of range or that call's results are not available.
+    std::vector<DispatchTiming> GetTimings(uint32_t callsBack, double* outTotalMilliseconds = nullptr);
+
+    // The dispatches of the last Denoise call with their resources, in recording order (the order
+    // of GetLastTimings).
+    std::vector<RecordedDispatch> GetLastDispatches() const;
+
     MemoryReport GetMemoryReport() const;
 
     // (Tests, debugging) A pool texture as the last recorded Denoise left it, for reading back.
@@ -191,6 +209,7 @@ private:
         rhi::QueryPool* queries = nullptr; // Timestamp before the first dispatch + one after each.
         uint32_t queriesCapacity = 0;
         std::vector<const char*> dispatchNames; // Of the last call recorded in this slot.
+        std::vector<RecordedDispatch> dispatches; // Same, with their resources.
     };
 
     VkResult CreatePipelines();
@@ -221,6 +240,7 @@ private:
     std::vector<FrameSlot> m_Slots;
     uint32_t m_SlotIndex = 0;       // Slot of the next Denoise.
     int32_t m_LastSlot = -1;        // Slot of the last Denoise.
+    uint32_t m_DenoiseCalls = 0;    // Recorded Denoise calls since creation.
     bool m_PoolsNeedClear = false;  // Set on (re)creation; the next Denoise clears the pools.
 };
 

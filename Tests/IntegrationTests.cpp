@@ -295,6 +295,24 @@ TEST_CASE("Timestamps are reported for each dispatch", "[vulkan]")
         Bindings bindings = {{ResourceType::IN_RADIANCE, &rig.input}, {ResourceType::OUT_RADIANCE, &rig.output}};
         REQUIRE(test::DenoiseAndWait(*context, rig.integration, bindings, {2}) == VK_SUCCESS);
         CHECK(rig.integration.GetLastTimings().size() == 1);
+
+        // The call before stays readable while its slot is not reused (3 frames in flight); the
+        // recorded dispatch lists its resources in binding order.
+        CHECK(rig.integration.GetTimings(1).size() == 2);
+        CHECK(rig.integration.GetTimings(2).empty()); // Only two calls so far.
+        CHECK(rig.integration.GetTimings(3).empty()); // Beyond the frames in flight.
+        std::vector<RecordedDispatch> recorded = rig.integration.GetLastDispatches();
+        REQUIRE(recorded.size() == 1);
+        CHECK(std::string(recorded[0].name) == timings[1].name);
+        bool readsInput = false, writesOutput = false;
+        for (const ResourceDesc& resource : recorded[0].resources)
+        {
+            readsInput |= resource.type == ResourceType::IN_RADIANCE && resource.descriptorType == DescriptorType::TEXTURE;
+            writesOutput |= resource.type == ResourceType::OUT_RADIANCE &&
+                            resource.descriptorType == DescriptorType::STORAGE_TEXTURE;
+        }
+        CHECK(readsInput);
+        CHECK(writesOutput);
     }
     CHECK(context->ValidationMessageCount() == 0);
 }

@@ -8,14 +8,18 @@
 #include "SceneLab.h"
 #include "VulkanContext.h"
 
+#include "CopyProbe.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
 #include <memory>
+#include <thread>
 
 namespace nrdlab
 {
@@ -130,6 +134,257 @@ struct Textures
     }
 };
 
+// "driverName driverInfo" (Vulkan 1.2), else the raw driverVersion.
+std::string DriverString(nrd::lab::VulkanContext& vk)
+{
+    const VkPhysicalDeviceProperties& properties = vk.GetProperties();
+    if (properties.apiVersion >= VK_API_VERSION_1_2)
+    {
+        VkPhysicalDeviceDriverProperties driver = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+        VkPhysicalDeviceProperties2 properties2 = {VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        properties2.pNext = &driver;
+        vkGetPhysicalDeviceProperties2(vk.GetPhysicalDevice(), &properties2);
+        return std::string(driver.driverName) + " " + driver.driverInfo;
+    }
+    return "driverVersion " + std::to_string(properties.driverVersion);
+}
+
+// Device bandwidth from 'repeats' compute copies of 'bytes' bytes between two device buffers, then
+// as many copies by the transfer path (vkCmdCopyBuffer), each timed with timestamps (one warm-up
+// copy first). Where the compute copy is slow (lavapipe's storage buffers) the transfer copy shows
+// what the memory allows.
+bool MeasureCopy(nrd::rhi::Device& device, uint64_t bytes, uint32_t repeats, std::vector<double>& ms,
+                 std::vector<double>& transferMs, std::string& error)
+{
+    using namespace nrd::rhi;
+    bytes = bytes / 16 * 16;
+    if (!bytes || !device.GetDesc().timestampsSupported)
+        return true;
+    Buffer* buffers[2] = {};
+    Pipeline* pipeline = nullptr;
+    DescriptorPool* pool = nullptr;
+    QueryPool* queries = nullptr;
+    CommandBuffer* cmd = nullptr;
+    bool ok = false;
+    do
+    {
+        BufferDesc bufferDesc = {};
+        bufferDesc.size = bytes;
+        bufferDesc.usage = BUFFER_USAGE_STORAGE | BUFFER_USAGE_COPY_SOURCE | BUFFER_USAGE_COPY_DESTINATION;
+        bufferDesc.name = "copy probe";
+        if (device.CreateBuffer(bufferDesc, buffers[0]) != Result::SUCCESS ||
+            device.CreateBuffer(bufferDesc, buffers[1]) != Result::SUCCESS)
+            break;
+        DescriptorBindingDesc bindings[2] = {{0, DescriptorType::BUFFER}, {1, DescriptorType::STORAGE_BUFFER}};
+        DescriptorSetDesc set = {bindings, 2};
+        ComputePipelineDesc pipelineDesc = {};
+        pipelineDesc.spirv = g_CopyProbe;
+        pipelineDesc.spirvSize = sizeof(g_CopyProbe);
+        pipelineDesc.sets = &set;
+        pipelineDesc.setsNum = 1;
+        pipelineDesc.pushConstantsSize = 4;
+        pipelineDesc.name = "copy probe";
+        if (device.CreateComputePipeline(pipelineDesc, pipeline) != Result::SUCCESS)
+            break;
+        DescriptorPoolDesc poolDesc = {};
+        poolDesc.setsMaxNum = 1;
+        poolDesc.descriptorsMaxNum[(size_t)DescriptorType::BUFFER] = 1;
+        poolDesc.descriptorsMaxNum[(size_t)DescriptorType::STORAGE_BUFFER] = 1;
+        DescriptorSet* descriptors = nullptr;
+        if (device.CreateDescriptorPool(poolDesc, pool) != Result::SUCCESS ||
+            device.AllocateDescriptorSet(*pool, *pipeline, 0, descriptors) != Result::SUCCESS)
+            break;
+        DescriptorWrite writes[2] = {};
+        writes[0].binding = 0;
+        writes[0].type = DescriptorType::BUFFER;
+        writes[0].buffer = buffers[0];
+        writes[1].binding = 1;
+        writes[1].type = DescriptorType::STORAGE_BUFFER;
+        writes[1].buffer = buffers[1];
+        device.UpdateDescriptorSet(*descriptors, writes, 2);
+        const uint32_t queriesNum = 4 * (repeats + 1);
+        if (device.CreateQueryPool(queriesNum, queries) != Result::SUCCESS ||
+            device.CreateCommandBuffer(cmd) != Result::SUCCESS || device.BeginCommandBuffer(*cmd) != Result::SUCCESS)
+            break;
+
+        device.CmdFillBuffer(*cmd, *buffers[0], 0, 0, 0x3F800000u);
+        // The fill before the first copy's reads; each copy's writes before the next one's (WAW).
+        GlobalBarrier filled = {ACCESS_COPY_DESTINATION, ACCESS_SHADER_READ | ACCESS_SHADER_READ_WRITE};
+        BarrierDesc barrier = {&filled, 1};
+        device.CmdBarrier(*cmd, barrier);
+        device.CmdResetQueries(*cmd, *queries, 0, queriesNum);
+        const uint32_t count = uint32_t(std::min<uint64_t>(bytes / 16, 0xFFFFFFFFu));
+        const uint32_t groups = std::min<uint32_t>((count + 255) / 256, std::min(65535u, device.GetDesc().dispatchMaxNum[0]));
+        device.CmdBindPipeline(*cmd, *pipeline);
+        device.CmdBindDescriptorSet(*cmd, *pipeline, 0, *descriptors);
+        device.CmdPushConstants(*cmd, *pipeline, &count, 4);
+        GlobalBarrier between = {ACCESS_SHADER_READ_WRITE, ACCESS_SHADER_READ_WRITE};
+        BarrierDesc betweenDesc = {&between, 1};
+        for (uint32_t r = 0; r <= repeats; r++)
+        {
+            device.CmdWriteTimestamp(*cmd, *queries, 2 * r);
+            device.CmdDispatch(*cmd, groups, 1, 1);
+            device.CmdWriteTimestamp(*cmd, *queries, 2 * r + 1);
+            device.CmdBarrier(*cmd, betweenDesc);
+        }
+        GlobalBarrier toTransfer = {ACCESS_SHADER_READ_WRITE, ACCESS_COPY_SOURCE | ACCESS_COPY_DESTINATION};
+        BarrierDesc toTransferDesc = {&toTransfer, 1};
+        device.CmdBarrier(*cmd, toTransferDesc);
+        GlobalBarrier transfers = {ACCESS_COPY_DESTINATION, ACCESS_COPY_DESTINATION};
+        BarrierDesc transfersDesc = {&transfers, 1};
+        const uint32_t base = 2 * (repeats + 1);
+        for (uint32_t r = 0; r <= repeats; r++)
+        {
+            device.CmdWriteTimestamp(*cmd, *queries, base + 2 * r);
+            device.CmdCopyBuffer(*cmd, *buffers[1], 0, *buffers[0], 0, bytes);
+            device.CmdWriteTimestamp(*cmd, *queries, base + 2 * r + 1);
+            device.CmdBarrier(*cmd, transfersDesc);
+        }
+        if (device.EndCommandBuffer(*cmd) != Result::SUCCESS || device.SubmitAndWait(*cmd) != Result::SUCCESS)
+            break;
+        std::vector<uint64_t> ticks(queriesNum);
+        if (device.GetTimestamps(*queries, 0, queriesNum, ticks.data()) != Result::SUCCESS)
+            break;
+        const double msPerTick = device.GetDesc().timestampPeriodNs * 1e-6;
+        for (uint32_t r = 1; r <= repeats; r++)
+        {
+            ms.push_back(double(ticks[2 * r + 1] - ticks[2 * r]) * msPerTick);
+            transferMs.push_back(double(ticks[base + 2 * r + 1] - ticks[base + 2 * r]) * msPerTick);
+        }
+        ok = true;
+    } while (false);
+    device.DestroyCommandBuffer(cmd);
+    device.DestroyQueryPool(queries);
+    device.DestroyDescriptorPool(pool);
+    device.DestroyPipeline(pipeline);
+    device.DestroyBuffer(buffers[0]);
+    device.DestroyBuffer(buffers[1]);
+    if (!ok)
+        error = "bandwidth probe failed (" + std::to_string(bytes >> 20) + " MiB buffers)";
+    return ok;
+}
+
+// RunOptions::timing: more frames on the inputs bound in 'pool', back to back; 'common.frameIndex'
+// advances by one per frame.
+bool TimeFixedInputs(const TimingOptions& t, nrd::lab::VulkanContext& vk, nrd::Integration& integration,
+                     nrd::CommonSettings& common, nrd::UserPool& pool, uint32_t width, uint32_t height,
+                     const std::function<uint32_t(nrd::ResourceType)>& userBytesPerPixel, TimingReport& out,
+                     std::string& error)
+{
+    out.frames = t.frames;
+    out.warmupFrames = 0;
+    out.framesPerSubmission = std::max(1u, t.framesPerSubmission);
+    out.idleMs = t.idleMs;
+    out.copyBytes = t.copyBytes;
+    std::map<std::string, size_t> passIndex;
+
+    // Records 'n' frames into one command buffer and submits it, waiting; keeps their timings if 'timed'.
+    auto runBatch = [&](uint32_t n, bool timed) {
+        VkCommandBuffer cmd = VK_NULL_HANDLE;
+        if (vk.BeginCommands(cmd) != VK_SUCCESS)
+        {
+            error = "timing: no command buffer";
+            return false;
+        }
+        for (uint32_t k = 0; k < n; k++)
+        {
+            common.frameIndex++;
+            if (integration.SetCommonSettings(common) != nrd::Result::SUCCESS ||
+                integration.Denoise(cmd, &kId, 1, pool) != VK_SUCCESS)
+            {
+                error = "timing: denoising failed";
+                vk.SubmitAndWait(cmd);
+                return false;
+            }
+        }
+        if (vk.SubmitAndWait(cmd) != VK_SUCCESS)
+        {
+            error = "timing: submission failed";
+            return false;
+        }
+        for (uint32_t k = 0; k < n && timed; k++)
+        {
+            double frameMs = 0.0;
+            std::vector<nrd::DispatchTiming> timings = integration.GetTimings(n - 1 - k, &frameMs);
+            if (timings.empty())
+                continue; // No timestamps on this queue.
+            out.frameMs.push_back(frameMs);
+            std::map<size_t, double> sums;
+            for (const nrd::DispatchTiming& timing : timings)
+            {
+                auto it = passIndex.find(timing.name);
+                if (it == passIndex.end())
+                {
+                    it = passIndex.emplace(timing.name, out.passes.size()).first;
+                    out.passes.push_back({timing.name, {}, {}});
+                }
+                sums[it->second] += timing.milliseconds;
+            }
+            for (auto& sum : sums)
+                out.passes[sum.first].ms.push_back(sum.second);
+        }
+        if (t.idleMs)
+            std::this_thread::sleep_for(std::chrono::milliseconds(t.idleMs));
+        return true;
+    };
+
+    // Warm-up: at least 'warmupFrames' frames and 'warmupMs' of host time.
+    auto start = std::chrono::steady_clock::now();
+    auto elapsedMs = [&] {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    };
+    for (uint32_t done = 0; done < t.warmupFrames || elapsedMs() < double(t.warmupMs);)
+    {
+        uint32_t n = done < t.warmupFrames ? std::min(out.framesPerSubmission, t.warmupFrames - done) : out.framesPerSubmission;
+        if (!runBatch(n, false))
+            return false;
+        done += n;
+        out.warmupFrames = std::max(out.warmupFrames, done);
+    }
+    if (t.copyBytes && !MeasureCopy(vk.GetDevice(), t.copyBytes, 8, out.copyMs, out.transferCopyMs, error))
+        return false;
+    start = std::chrono::steady_clock::now();
+    for (uint32_t done = 0; done < t.frames;)
+    {
+        uint32_t n = std::min(out.framesPerSubmission, t.frames - done);
+        if (!runBatch(n, true))
+            return false;
+        done += n;
+    }
+    out.wallSeconds = elapsedMs() * 1e-3;
+
+    // nrd-sample's pattern: one frame per submission, waited for, right away and after idle time.
+    if (t.isolatedIdleMs)
+    {
+        TimingReport alone;
+        TimingOptions one = {};
+        one.frames = t.isolatedFrames;
+        one.warmupFrames = 1;
+        one.framesPerSubmission = 1;
+        for (uint32_t idle : {0u, t.isolatedIdleMs})
+        {
+            one.idleMs = idle;
+            alone = {};
+            if (!TimeFixedInputs(one, vk, integration, common, pool, width, height, userBytesPerPixel, alone, error))
+                return false;
+            (idle ? out.isolatedMs : out.aloneMs) = alone.frameMs;
+        }
+    }
+
+    const nrd::DenoiserDesc& desc = integration.GetDenoiserDesc();
+    for (const nrd::RecordedDispatch& dispatch : integration.GetLastDispatches())
+    {
+        auto it = passIndex.find(dispatch.name);
+        if (it == passIndex.end())
+            continue;
+        DispatchBytes bytes = CountDispatchBytes(dispatch.resources.data(), uint32_t(dispatch.resources.size()), desc,
+                                                 width, height, userBytesPerPixel);
+        out.passes[it->second].bytes.read += bytes.read;
+        out.passes[it->second].bytes.written += bytes.written;
+    }
+    return true;
+}
+
 } // namespace
 
 bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
@@ -177,11 +432,12 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     report.method = o.method;
     report.signal = io.signal;
     report.device = vk.GetProperties().deviceName;
+    report.driver = DriverString(vk);
     report.width = o.width;
     report.height = o.height;
     report.frames = o.frames ? o.frames : scene.frameNum;
     report.warmup = std::min(o.warmup, report.frames > 0 ? report.frames - 1 : 0u);
-    report.truthSpp = o.truthSpp;
+    report.truthSpp = o.timing.skipQuality ? 0 : o.truthSpp;
 
     // The denoiser and its textures.
     nrd::Integration integration;
@@ -195,7 +451,11 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         desc.methodsNum = 1;
         desc.renderWidth = uint16_t(o.width);
         desc.renderHeight = uint16_t(o.height);
-        if (integration.Create(vk.GetIntegrationCreationDesc(), desc) != VK_SUCCESS)
+        nrd::IntegrationCreationDesc integrationDesc = vk.GetIntegrationCreationDesc();
+        // Timed frames recorded back to back each hold a slot (descriptors, constants, queries).
+        if (o.timing.frames)
+            integrationDesc.framesInFlight = std::max(integrationDesc.framesInFlight, o.timing.framesPerSubmission);
+        if (integration.Create(integrationDesc, desc) != VK_SUCCESS)
         {
             error = "could not create the denoiser";
             return false;
@@ -206,7 +466,12 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             error = std::string("method settings rejected: ") + nrd::GetResultString(r);
             return false;
         }
-        report.memoryBytes = integration.GetMemoryReport().totalBytes;
+        nrd::MemoryReport memory = integration.GetMemoryReport();
+        report.memoryBytes = memory.totalBytes;
+        report.permanentPoolBytes = memory.permanentPoolBytes;
+        report.transientPoolBytes = memory.transientPoolBytes;
+        report.bufferPoolBytes = memory.bufferPoolBytes;
+        report.constantRingBytes = memory.constantRingBytes;
         report.pipelines = integration.GetDenoiserDesc().pipelinesNum;
     }
 
@@ -217,7 +482,8 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     std::map<std::string, double> passSum;
     uint32_t timedFrames = 0;
 
-    for (uint32_t f = 0; f < report.frames; f++)
+    // Timing only: the last frame's inputs suffice.
+    for (uint32_t f = o.timing.skipQuality ? report.frames - 1 : 0; f < report.frames; f++)
     {
         if (o.progress)
             o.progress(f, report.frames);
@@ -225,7 +491,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         params.width = o.width;
         params.height = o.height;
         params.frameIndex = f;
-        params.truthSpp = o.truthSpp;
+        params.truthSpp = report.truthSpp;
         params.seed = o.seed;
         params.signals = io.adapter->GetLabSignals(io.signal);
         FrameData frame;
@@ -331,7 +597,59 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
                 for (const auto& t : timings)
                     passSum[t.name] += t.milliseconds;
             }
+            if (o.timing.frames && f + 1 == report.frames)
+            {
+                // Application textures at the formats they were created with.
+                auto userBytesPerPixel = [&](nrd::ResourceType type) {
+                    auto it = textures->map.find(type);
+                    return it == textures->map.end() ? 0u : nrd::rhi::GetFormatBytesPerPixel(it->second.format);
+                };
+                // The readback left the output in another layout than the last Denoise.
+                for (auto& t : textures->map)
+                    pool[t.first] = t.second.AsUserTexture();
+                std::vector<std::string> variants = o.timing.settingsVariants;
+                if (variants.empty())
+                    variants.push_back(o.settingsJson);
+                report.timing.resize(variants.size());
+                for (size_t v = 0; v < variants.size(); v++)
+                {
+                    if (!variants[v].empty() && variants[v].find("\"common\"") != std::string::npos)
+                    {
+                        error = "timing: a settings variant cannot change \"common\" (the inputs depend on it)";
+                        return false;
+                    }
+                    // The variant's method settings over the defaults, through a fresh adapter;
+                    // the per-frame ones (the light) stay this frame's.
+                    std::unique_ptr<MethodAdapter> adapter = CreateMethodAdapter(o.method);
+                    nrd::CommonSettings ignoredCommon;
+                    bool ignored3d = motion3d, ignoredNone = motionNone;
+                    if (!adapter || !ParseSettings(variants[v], ignoredCommon, *adapter, ignored3d, ignoredNone, error))
+                        return false;
+                    if (adapter->ApplySettings(integration, kId) != nrd::Result::SUCCESS)
+                    {
+                        error = "timing: settings variant " + std::to_string(v) + " rejected";
+                        return false;
+                    }
+                    adapter->ApplyFrameSettings(integration, kId, frame);
+                    if (o.timing.progress)
+                        o.timing.progress(uint32_t(v), uint32_t(variants.size()));
+                    TimingOptions t = o.timing;
+                    if (v > 0)
+                    {
+                        t.isolatedIdleMs = 0; // nrd-sample's pattern for the first variant only.
+                        t.warmupMs = 0;       // The clocks settled during the first variant.
+                        t.copyBytes = 0;      // One bandwidth probe per run.
+                    }
+                    if (!TimeFixedInputs(t, vk, integration, common, pool, o.width, o.height, userBytesPerPixel,
+                                         report.timing[v], error))
+                        return false;
+                }
+                for (auto& t : textures->map)
+                    t.second.FromUserTexture(pool[t.first]);
+            }
         }
+        if (o.timing.skipQuality)
+            continue;
         if (io.none)
             report.perFrame.push_back(FrameMetrics{});
 
@@ -383,6 +701,13 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             report.denoised = denoised;
             report.truth = truth;
         }
+    }
+
+    if (o.timing.skipQuality)
+    {
+        report.perFrame.clear();
+        report.validationMessages = vk.ValidationMessageCount();
+        return !(o.validation && report.validationMessages);
     }
 
     // Averages after the warm-up.

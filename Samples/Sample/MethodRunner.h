@@ -2,6 +2,7 @@
 // it against the scene's ground truth. Shared by nrd-sample, the benchmark and the quality tests.
 #pragma once
 
+#include "ByteModel.h"
 #include "Image.h"
 
 #include <cstdint>
@@ -11,6 +12,34 @@
 
 namespace nrdlab
 {
+
+// Timing on fixed inputs (the benchmark): once the last frame is rendered and denoised, the
+// denoiser runs 'warmupFrames' + 'frames' more frames on that frame's inputs (only frameIndex
+// advances), 'framesPerSubmission' of them recorded back to back into one command buffer; the GPU
+// timestamps of the last 'frames' go to RunReport::timing. The scene lab is not timed.
+struct TimingOptions
+{
+    uint32_t frames = 0;               // Timed frames; 0: no timing.
+    uint32_t warmupFrames = 32;        // Untimed frames first (clocks settle, caches and history fill),
+    uint32_t warmupMs = 0;             // for at least this long (first settings variant only).
+    uint32_t framesPerSubmission = 16; // 1: one frame per submission, waited for (nrd-sample's way).
+    uint32_t idleMs = 0;               // Host pause after each submission (nrd-sample spends it in the
+                                       // scene lab and the metrics).
+    bool skipQuality = false;          // Render only the last frame, without truth; no metrics.
+    uint64_t copyBytes = 0;            // Bandwidth probe: copies from one buffer of this many bytes into
+                                       // another, 8 by a compute dispatch and 8 by the transfer path,
+                                       // after the warm-up; 0: none.
+    // Method settings JSON texts (as RunOptions::settingsJson, no "common") timed one after the
+    // other on the same inputs and denoiser, one TimingReport each (the bandwidth probe runs with
+    // the first); empty: RunOptions::settingsJson.
+    std::vector<std::string> settingsVariants;
+    // nrd-sample's pattern, after the first variant's timed frames: 'isolatedFrames' frames each
+    // submitted alone and waited for, right away, then each after 'isolatedIdleMs' of host idle
+    // time (TimingReport::aloneMs / isolatedMs); 0: not measured.
+    uint32_t isolatedIdleMs = 0;
+    uint32_t isolatedFrames = 8;
+    std::function<void(uint32_t variant, uint32_t variants)> progress; // (Optional) Before each variant.
+};
 
 struct RunOptions
 {
@@ -29,6 +58,7 @@ struct RunOptions
     bool keepImages = true;         // Keep the last frame's noisy / denoised / truth images in the report.
     bool bounds = false;            // Also measure the temporal-reuse bounds of the scene (ReuseBounds.h).
     std::function<void(uint32_t frame, uint32_t frames)> progress; // (Optional)
+    TimingOptions timing;
 };
 
 // Blend factors of the reuse bounds' oracle (the second is the one reported as 'oracle').
@@ -51,12 +81,34 @@ struct FrameMetrics
     double boundOracleByAlpha[3] = {-1, -1, -1};
 };
 
+// One dispatch name of the timed frames (a name dispatched twice in a frame is summed).
+struct PassTiming
+{
+    std::string name;
+    std::vector<double> ms; // GPU time per timed frame (from the previous dispatch's end, barriers included).
+    DispatchBytes bytes;    // ByteModel.h, per frame.
+};
+
+struct TimingReport
+{
+    uint32_t frames = 0, warmupFrames = 0, framesPerSubmission = 0, idleMs = 0; // warmupFrames: as run.
+    std::vector<double> frameMs;  // First dispatch's start to last dispatch's end, per timed frame.
+    std::vector<PassTiming> passes; // In dispatch order.
+    uint64_t copyBytes = 0;       // Bytes read by one probe copy (as many are written).
+    std::vector<double> copyMs;   // GPU time of each probe copy by a compute dispatch,
+    std::vector<double> transferCopyMs; // and by vkCmdCopyBuffer.
+    double wallSeconds = 0.0;     // Host time of the timed frames, submissions and waits included.
+    std::vector<double> aloneMs, isolatedMs; // TimingOptions::isolatedIdleMs, per frame.
+};
+
 struct RunReport
 {
     std::string scene, method, signal, device;
+    std::string driver;            // Vulkan driver name and version.
     uint32_t width = 0, height = 0, frames = 0, warmup = 0, truthSpp = 0;
     double gpuMsPerFrame = 0;      // Mean over the frames after the warm-up (0 for NONE).
     uint64_t memoryBytes = 0;      // The integration layer's device memory (pools, constants).
+    uint64_t permanentPoolBytes = 0, transientPoolBytes = 0, bufferPoolBytes = 0, constantRingBytes = 0;
     uint32_t dispatchesPerFrame = 0, pipelines = 0;
     FrameMetrics mean;             // Averages over the frames after the warm-up.
     int32_t lagFrames = 0;         // Frames to recover after a sudden change, the longest over the
@@ -67,6 +119,7 @@ struct RunReport
     double renderNoisyMs = 0, renderTruthMs = 0;        // Scene-lab time per frame (wall, incl. cache).
     uint32_t validationMessages = 0;
     Image noisy, denoised, truth;  // Last frame (if keepImages).
+    std::vector<TimingReport> timing; // With RunOptions::timing.frames: one per settings variant.
 };
 
 // Returns false with 'error' set on bad options or a device failure.
