@@ -217,3 +217,33 @@ TEST_CASE("The report gives the mean of the input, output and truth, occlusion s
         CHECK(j["per_frame"][3].contains("mean_truth"));
     }
 }
+
+TEST_CASE("Every method of the library runs through the runner on every signal it offers", "[quality]")
+{
+    // Methods that denoise several signals write all their outputs in one frame: the runner must
+    // bind every one of them, whichever signal it compares.
+    const nrd::LibraryDesc& lib = nrd::GetLibraryDesc();
+    for (uint32_t i = 0; i < lib.supportedMethodsNum; i++)
+    {
+        const std::string method = nrd::GetMethodString(lib.supportedMethods[i]);
+        std::unique_ptr<nrdlab::MethodAdapter> adapter = nrdlab::CreateMethodAdapter(method);
+        REQUIRE(adapter);
+        for (const std::string& signal : adapter->GetSignals())
+        {
+            INFO(method << " / " << signal);
+            nrdlab::RunOptions o = SmallRun("static", method);
+            o.signal = signal;
+            o.width = 24;
+            o.height = 16;
+            o.frames = 3;
+            o.warmup = 1;
+            o.truthSpp = 4;
+            nrdlab::RunReport r;
+            std::string error;
+            REQUIRE(nrdlab::RunMethod(o, r, error));
+            CHECK(r.signal == signal);
+            CHECK(std::isfinite(r.mean.relmseDenoised));
+            CHECK(r.denoised.width == 24);
+        }
+    }
+}

@@ -565,6 +565,28 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             vk.UploadTexture(outTex, init.data(), nrd::rhi::Layout::GENERAL);
             pool[outType] = outTex.AsUserTexture();
 
+            // A method that denoises several signals (REBLUR_DIFFUSE_SPECULAR) writes every one of
+            // its outputs: bind the ones that are not compared too (sky pixels keep zeros there).
+            for (const std::string& other : io.adapter->GetSignals())
+            {
+                const nrd::ResourceType otherType = io.adapter->GetOutput(other);
+                if (otherType == outType)
+                    continue;
+                auto& otherTex = textures->map[otherType];
+                if (!otherTex.texture)
+                {
+                    const nrd::rhi::Format otherFormat = io.adapter->GetOutputFormat(other);
+                    const size_t floats = size_t(o.width) * o.height * nrd::rhi::GetFormatInfo(otherFormat).channelNum;
+                    if (vk.CreateTexture(otherFormat, o.width, o.height, "output", otherTex) != VK_SUCCESS)
+                    {
+                        error = "texture creation failed";
+                        return false;
+                    }
+                    vk.UploadTexture(otherTex, std::vector<float>(floats, 0.0f).data(), nrd::rhi::Layout::GENERAL);
+                }
+                pool[otherType] = otherTex.AsUserTexture();
+            }
+
             VkCommandBuffer cmd;
             if (vk.BeginCommands(cmd) != VK_SUCCESS || integration.Denoise(cmd, &kId, 1, pool) != VK_SUCCESS ||
                 vk.SubmitAndWait(cmd) != VK_SUCCESS)
