@@ -3,6 +3,8 @@
 // convergence, cache). Sizes are small so the whole file runs in a couple of minutes on 2 CPU cores.
 #include <catch2/catch.hpp>
 
+#include "Mesh.h"
+#include <glm/geometric.hpp>
 #include "Metrics.h"
 #include "SceneLab.h"
 #include "VulkanContext.h"
@@ -763,4 +765,261 @@ TEST_CASE("the truth of the normalized hit distance matches a closed form betwee
         CHECK(worst < 0.1);
         CHECK(std::fabs(sumError / double(surfaces)) < 0.01);
     }
+}
+// ------------------------------------------------------------------------------------------------
+// Triangle meshes
+
+namespace
+{
+
+// A scratch folder for model files written by a test.
+std::string MeshScratch()
+{
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / "nrd_scenelab_mesh_tests";
+    std::filesystem::create_directories(dir);
+    return dir.string();
+}
+
+std::string WriteFile(const std::string& name, const std::string& content)
+{
+    std::string path = MeshScratch() + "/" + name;
+    std::ofstream(path, std::ios::binary) << content;
+    return path;
+}
+
+std::string MeshSceneText(const std::string& meshObject, const std::string& extra = "")
+{
+    return R"({ "camera": { "position": [2.0, 1.6, 3.0], "target": [0, 0.2, 0] },
+        "lights": [ { "type": "sun", "direction": [0.3, 1, 0.2], "intensity": [2, 2, 2] } ],
+        "objects": [ { "type": "plane", "position": [0, -0.5, 0] }, )" +
+           meshObject + extra + " ] }";
+}
+
+std::string MeshLoadError(const std::string& file)
+{
+    Scene scene;
+    std::string error;
+    CHECK_FALSE(LoadScene(MeshSceneText(R"({ "type": "mesh", "file": ")" + file + R"(" })"), scene, error));
+    return error;
+}
+
+// The unit cube as an OBJ with one normal per face (flat shading, as the procedural box).
+const char* kCubeObj = R"(v -0.5 -0.5 -0.5
+v 0.5 -0.5 -0.5
+v 0.5 0.5 -0.5
+v -0.5 0.5 -0.5
+v -0.5 -0.5 0.5
+v 0.5 -0.5 0.5
+v 0.5 0.5 0.5
+v -0.5 0.5 0.5
+vn 1 0 0
+vn -1 0 0
+vn 0 1 0
+vn 0 -1 0
+vn 0 0 1
+vn 0 0 -1
+f 2//1 3//1 7//1 6//1
+f 1//2 5//2 8//2 4//2
+f 4//3 8//3 7//3 3//3
+f 1//4 2//4 6//4 5//4
+f 5//5 6//5 7//5 8//5
+f 1//6 4//6 3//6 2//6
+)";
+
+const std::string kEngine = "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+
+} // namespace
+
+TEST_CASE("bad model files give an error naming the file, never a crash", "[scenelab][mesh]")
+{
+    std::string error = MeshLoadError("no/such/model.glb");
+    CHECK(error.find("objects[1].file") != std::string::npos);
+    CHECK(error.find("model.glb") != std::string::npos);
+    CHECK(error.find("no such file") != std::string::npos);
+
+    // Truncated: the first half of a valid binary glTF.
+    std::string engine = ReadText(GetModelsDirectory() + "/" + kEngine);
+    REQUIRE(engine.size() > 1000);
+    std::string truncated = WriteFile("truncated.glb", engine.substr(0, engine.size() / 2));
+    error = MeshLoadError(truncated);
+    CHECK(error.find(truncated) != std::string::npos);
+    CHECK(error.find("not a readable model") != std::string::npos);
+
+    // Not a model at all.
+    std::string garbage;
+    for (int i = 0; i < 4096; i++)
+        garbage += char((i * 7919 + 13) & 0xff);
+    std::string notModel = WriteFile("random.glb", garbage);
+    error = MeshLoadError(notModel);
+    CHECK(error.find(notModel) != std::string::npos);
+    CHECK(error.find("not a readable model") != std::string::npos);
+
+    // Points and lines only.
+    std::string lines = WriteFile("lines.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\np 1\n");
+    error = MeshLoadError(lines);
+    CHECK(error.find(lines) != std::string::npos);
+    CHECK(error.find("no triangles") != std::string::npos);
+
+    // Non-finite positions: written here, and the package's own test model with infinities.
+    std::string nan = WriteFile("nan.obj", "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n");
+    error = MeshLoadError(nan);
+    CHECK(error.find(nan) != std::string::npos);
+    CHECK(error.find("non-finite vertex") != std::string::npos);
+    error = MeshLoadError("glTF2/BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb");
+    CHECK(error.find("BoxWithInfinites.glb") != std::string::npos);
+    CHECK(error.find("non-finite vertex") != std::string::npos);
+
+    // Schema errors of mesh objects.
+    error = LoadError(MeshSceneText(R"({ "type": "mesh" })"));
+    CHECK(error.find("objects[1]: missing key \"file\"") != std::string::npos);
+    error = LoadError(MeshSceneText(R"({ "type": "mesh", "file": ")" + kEngine + R"(", "scale": -1 })"));
+    CHECK(error.find("objects[1].scale") != std::string::npos);
+    error = LoadError(MeshSceneText(R"({ "type": "box", "size": 1, "file": "x.obj" })"));
+    CHECK(error.find("objects[1].file: not a parameter of a box") != std::string::npos);
+}
+
+TEST_CASE("BVH traversal equals brute-force intersection on random rays over a loaded model", "[scenelab][mesh]")
+{
+    for (const std::string& file : {kEngine, std::string("OBJ/spider.obj")})
+    {
+        MeshData mesh;
+        std::string error;
+        INFO(file << ": " << error);
+        REQUIRE(LoadMesh(GetModelsDirectory() + "/" + file, glm::vec3(1.0f), mesh, error));
+        REQUIRE(mesh.triangles.size() > 1000);
+        CHECK(mesh.depth <= kMaxBvhDepth);
+        // Every triangle in exactly one leaf, leaves inside their parents' bounds.
+        std::vector<int> seen(mesh.triangles.size(), 0);
+        for (const BvhNode& n : mesh.nodes)
+            for (uint32_t i = n.first; n.count > 0 && i < n.first + n.count; i++)
+                seen[i]++;
+        CHECK(std::count(seen.begin(), seen.end(), 1) == ptrdiff_t(seen.size()));
+
+        // Rays from a sphere around the model towards random points inside its bounds (most hit),
+        // and some short ones (tMax inside the model).
+        const glm::vec3 centre = 0.5f * (mesh.boundsMin + mesh.boundsMax);
+        const float radius = glm::length(mesh.boundsMax - mesh.boundsMin);
+        uint32_t rng = 12345u;
+        auto next = [&]() {
+            rng = rng * 1664525u + 1013904223u;
+            return float(rng >> 8) / 16777216.0f;
+        };
+        uint32_t hits = 0;
+        const int rayNum = 3000;
+        for (int r = 0; r < rayNum; r++)
+        {
+            glm::vec3 dir = glm::normalize(glm::vec3(next() - 0.5f, next() - 0.5f, next() - 0.5f) + 1e-6f);
+            glm::vec3 o = centre - dir * radius;
+            glm::vec3 target = mesh.boundsMin + (mesh.boundsMax - mesh.boundsMin) *
+                                                    glm::vec3(next(), next(), next());
+            glm::vec3 d = glm::normalize(target - o);
+            float tMax = r % 4 == 3 ? radius * next() * 1.5f : 1e30f;
+            MeshHit bvh = IntersectMesh(mesh, o, d, 0.0f, tMax, true);
+            MeshHit brute = IntersectMesh(mesh, o, d, 0.0f, tMax, false);
+            INFO("ray " << r);
+            REQUIRE(bvh.triangle == brute.triangle);
+            if (brute.triangle >= 0)
+            {
+                hits++;
+                CHECK(bvh.t == brute.t);
+            }
+        }
+        CHECK(hits > rayNum / 4);
+    }
+}
+
+TEST_CASE("a mesh and the equivalent procedural box render the same G-buffer", "[scenelab][mesh][vulkan]")
+{
+    // The same unit cube, spinning and moving, as a box and as a mesh; a floor under both.
+    const std::string motion = R"(, "position": [0, 0.1, 0], "rotation": [10, 20, 0], "material": { "albedo": 0.6 },
+        "keyframes": [ { "frame": 0, "position": [-0.3, 0.1, 0], "rotation": [10, 0, 5] },
+                       { "frame": 20, "position": [0.3, 0.2, 0.1], "rotation": [30, 80, 10] } ] })";
+    const std::string cube = WriteFile("cube.obj", kCubeObj);
+    Scene boxScene, meshScene;
+    std::string error;
+    INFO(error);
+    REQUIRE(LoadScene(MeshSceneText(R"({ "type": "box", "size": 1)" + motion), boxScene, error));
+    REQUIRE(LoadScene(MeshSceneText(R"({ "type": "mesh", "file": ")" + cube + "\"" + motion), meshScene, error));
+    RenderParams p;
+    p.width = 64;
+    p.height = 64;
+    p.frameIndex = 12;
+    p.truthSpp = 0;
+    p.signals = SIGNAL_SHADOW;
+    FrameData box = Render(boxScene, p);
+    FrameData mesh = Render(meshScene, p);
+
+    // Triangle edges and box edges are computed differently: a pixel centre within a rounding
+    // error of an edge may fall on either side. Everything else must agree to float precision.
+    uint32_t differ = 0, cubePixels = 0;
+    for (uint32_t y = 0; y < p.height; y++)
+        for (uint32_t x = 0; x < p.width; x++)
+        {
+            cubePixels += box.objectIndex.at(x, y, 0) == 1.0f ? 1 : 0;
+            bool same = box.objectIndex.at(x, y, 0) == mesh.objectIndex.at(x, y, 0) &&
+                        std::fabs(box.viewZ.at(x, y, 0) - mesh.viewZ.at(x, y, 0)) <= 1e-4f * box.viewZ.at(x, y, 0) &&
+                        box.shadowVisibility.at(x, y, 0) == mesh.shadowVisibility.at(x, y, 0);
+            for (uint32_t c = 0; c < 4 && same; c++)
+                same = std::fabs(box.normalRoughness.at(x, y, c) - mesh.normalRoughness.at(x, y, c)) <= 1e-4f;
+            for (uint32_t c = 0; c < 3 && same; c++)
+                same = std::fabs(box.motion3d.at(x, y, c) - mesh.motion3d.at(x, y, c)) <= 1e-4f &&
+                       std::fabs(box.albedo.at(x, y, c) - mesh.albedo.at(x, y, c)) <= 1e-6f;
+            for (uint32_t c = 0; c < 2 && same; c++)
+                same = std::fabs(box.motion2d.at(x, y, c) - mesh.motion2d.at(x, y, c)) <= 1e-4f;
+            differ += same ? 0 : 1;
+        }
+    CHECK(cubePixels > 300);
+    CHECK(differ <= 3);
+}
+
+TEST_CASE("the GPU traversal sees what the CPU brute force sees through every pixel", "[scenelab][mesh][vulkan]")
+{
+    Scene scene = LoadBuiltin("mesh_engine");
+    int engine = -1;
+    for (size_t i = 0; i < scene.objects.size(); i++)
+        if (scene.objects[i].type == PrimitiveType::MESH)
+            engine = int(i);
+    REQUIRE(engine >= 0);
+    const Object& o = scene.objects[size_t(engine)];
+    REQUIRE(o.mesh->triangles.size() > 100000);
+    RenderParams p;
+    p.width = 48;
+    p.height = 48;
+    p.frameIndex = 5;
+    p.truthSpp = 0;
+    p.signals = 0;
+    FrameData f = Render(scene, p);
+    SceneState state = EvaluateScene(scene, p.frameIndex);
+    const ObjectState& os = state.objects[size_t(engine)];
+    const float* V = f.camera.worldToView;
+    const float* P = f.camera.viewToClip;
+    uint32_t enginePixels = 0, agree = 0;
+    for (uint32_t y = 0; y < p.height; y++)
+        for (uint32_t x = 0; x < p.width; x++)
+        {
+            // The primary ray of LabScene.glsl PrimaryRay, in the engine's object space.
+            float ndcX = (x + 0.5f) / p.width * 2.0f - 1.0f, ndcY = (y + 0.5f) / p.height * 2.0f - 1.0f;
+            glm::vec3 dv(ndcX / P[0], ndcY / P[5], 1.0f);
+            glm::vec3 dir = glm::normalize(glm::vec3(V[0], V[4], V[8]) * dv.x + glm::vec3(V[1], V[5], V[9]) * dv.y +
+                                           glm::vec3(V[2], V[6], V[10]) * dv.z);
+            glm::vec3 origin(f.camera.position[0], f.camera.position[1], f.camera.position[2]);
+            glm::vec3 rel = origin - glm::vec3(os.position.x, os.position.y, os.position.z);
+            const float* R = os.rotation; // world-from-local rows: local = R^T world
+            glm::vec3 lo(R[0] * rel.x + R[3] * rel.y + R[6] * rel.z, R[1] * rel.x + R[4] * rel.y + R[7] * rel.z,
+                         R[2] * rel.x + R[5] * rel.y + R[8] * rel.z);
+            glm::vec3 ld(R[0] * dir.x + R[3] * dir.y + R[6] * dir.z, R[1] * dir.x + R[4] * dir.y + R[7] * dir.z,
+                         R[2] * dir.x + R[5] * dir.y + R[8] * dir.z);
+            MeshHit hit = IntersectMesh(*o.mesh, lo, ld, 0.0f, 1e30f, false);
+            bool gpuEngine = f.objectIndex.at(x, y, 0) == float(engine);
+            if (!gpuEngine && hit.triangle < 0)
+                continue;
+            // Where the GPU saw the engine, the CPU finds it at the same depth; where the CPU finds it
+            // and the GPU saw something else, that must be nearer (the floor does not occlude here).
+            enginePixels++;
+            float viewZ = hit.triangle >= 0 ? hit.t * glm::dot(dir, glm::vec3(V[2], V[6], V[10])) : -1.0f;
+            if (gpuEngine && hit.triangle >= 0 && std::fabs(viewZ - f.viewZ.at(x, y, 0)) <= 1e-3f * viewZ)
+                agree++;
+        }
+    CHECK(enginePixels > p.width * p.height / 5);
+    CHECK(agree >= enginePixels - 2);
 }

@@ -6,11 +6,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace nrdlab
 {
+
+struct MeshData; // Mesh.h
 
 struct Float3
 {
@@ -57,6 +60,7 @@ enum class PrimitiveType : uint32_t
     BOX,    // 'size' (full extents along local X, Y, Z), centred on the local origin.
     PLANE,  // Infinite, through the local origin, normal local +Y, two-sided.
     QUAD,   // size.x along local X by size.z along local Z, centred, normal local +Y, two-sided.
+    MESH,   // The triangles of a model file ('mesh', 'scale' applied), two-sided, smooth normals.
 
     MAX_NUM
 };
@@ -88,6 +92,9 @@ struct Object
     PrimitiveType type = PrimitiveType::SPHERE;
     float radius = 0.5f;          // SPHERE.
     Float3 size = {1, 1, 1};      // BOX: x, y, z extents; QUAD: x and z extents (y unused).
+    std::string file;             // MESH: the path as written in the scene.
+    Float3 scale = {1, 1, 1};     // MESH: per-axis scale of the model (constant, baked into 'mesh').
+    std::shared_ptr<const MeshData> mesh; // MESH: the loaded triangles and their BVH (shared, immutable).
     Material material;
     Track<Float3> position;       // World position of the local origin.
     Track<Float3> rotation;       // Euler angles in degrees, applied about X, then Y, then Z.
@@ -148,7 +155,9 @@ constexpr uint32_t kMaxLights = 8;
 // file path, or the name of a built-in scene ("static" -> <built-in dir>/static.json) if no such
 // file exists. Returns false and a one-line message in 'error' on failure, naming the JSON path of
 // the problem, e.g. `objects[2].material.roughness: expected number in [0, 1], got "x"`. Unknown
-// keys are errors. Never throws. 'out' is only written on success.
+// keys are errors. Never throws. 'out' is only written on success. Mesh objects load their model
+// here: a relative "file" is looked up next to the scene file (the working directory for JSON
+// text), then in GetModelsDirectory() (Mesh.h); errors name the file and the JSON path.
 bool LoadScene(const std::string& pathOrText, Scene& out, std::string& error);
 
 // Directory of the built-in scenes (Samples/Scenes of the source tree, or NRDLAB_SCENES_DIR from

@@ -5,6 +5,7 @@
 
 #include "FrameCache.h"
 #include "LabShaders.h"
+#include "Mesh.h"
 #include "RHI.h"
 #include "VulkanContext.h"
 
@@ -320,6 +321,10 @@ struct SceneLab::Impl
     rhi::Buffer* objects = nullptr;   // LabObject[LAB_MAX_OBJECTS]
     rhi::Buffer* materials = nullptr; // LabMaterial[LAB_MAX_OBJECTS]
     rhi::Buffer* lights = nullptr;    // LabLight[LAB_MAX_LIGHTS]
+    rhi::Buffer* bvhNodes = nullptr;  // LabBvhNode[] of every mesh in 'meshes'
+    rhi::Buffer* triangles = nullptr; // LabTriangle[]
+    std::vector<std::shared_ptr<const MeshData>> meshes; // What bvhNodes / triangles hold, in order.
+    std::vector<uint32_t> meshRoots;  // Root node of each of 'meshes'.
     rhi::Buffer* readback = nullptr;
     uint64_t readbackSize = 0;
     Texture textures[SLOT_NUM];
@@ -338,7 +343,7 @@ struct SceneLab::Impl
             device.DestroyPipeline(p.second);
         device.DestroyDescriptorPool(descriptorPool);
         device.DestroyCommandBuffer(commandBuffer);
-        for (rhi::Buffer* b : {constants, objects, materials, lights, readback})
+        for (rhi::Buffer* b : {constants, objects, materials, lights, bvhNodes, triangles, readback})
             device.DestroyBuffer(b);
     }
 
@@ -366,6 +371,7 @@ struct SceneLab::Impl
         pool.setsMaxNum = 16;
         pool.descriptorsMaxNum[(size_t)rhi::DescriptorType::UNIFORM_BUFFER] = 4 * 16;
         pool.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_TEXTURE] = 5 * 16;
+        pool.descriptorsMaxNum[(size_t)rhi::DescriptorType::BUFFER] = 2 * 16;
         if (!Check(device.CreateDescriptorPool(pool, descriptorPool), "CreateDescriptorPool") ||
             !Check(device.CreateCommandBuffer(commandBuffer), "CreateCommandBuffer"))
             return false;
@@ -382,6 +388,7 @@ struct SceneLab::Impl
                   makeBuffer(sizeof(gpu::LabObject) * LAB_MAX_OBJECTS, "LabObjects", objects) &&
                   makeBuffer(sizeof(gpu::LabMaterial) * LAB_MAX_OBJECTS, "LabMaterials", materials) &&
                   makeBuffer(sizeof(gpu::LabLight) * LAB_MAX_LIGHTS, "LabLights", lights) &&
+                  UploadMeshes(Scene()) &&
                   GetPipeline(NoisyPass(0, RenderParams())) != nullptr; // compiles the G-buffer pass
         return isValid;
     }
@@ -405,6 +412,8 @@ struct SceneLab::Impl
         std::vector<rhi::DescriptorBindingDesc> bindings;
         for (uint32_t b : {LAB_BINDING_CONSTANTS, LAB_BINDING_OBJECTS, LAB_BINDING_MATERIALS, LAB_BINDING_LIGHTS})
             bindings.push_back({b, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
+        for (uint32_t b : {LAB_BINDING_BVH_NODES, LAB_BINDING_TRIANGLES})
+            bindings.push_back({b, rhi::DescriptorType::BUFFER, 1, nullptr});
         for (const Output& o : pass.outputs)
             bindings.push_back({o.binding, rhi::DescriptorType::STORAGE_TEXTURE, 1, nullptr});
         rhi::DescriptorSetDesc set = {bindings.data(), uint32_t(bindings.size())};
@@ -516,6 +525,15 @@ struct SceneLab::Impl
                 wr.buffer = buffers[i];
                 writes.push_back(wr);
             }
+            for (auto [binding, buffer] : {std::make_pair(uint32_t(LAB_BINDING_BVH_NODES), bvhNodes),
+                                           std::make_pair(uint32_t(LAB_BINDING_TRIANGLES), triangles)})
+            {
+                rhi::DescriptorWrite wr;
+                wr.binding = binding;
+                wr.type = rhi::DescriptorType::BUFFER;
+                wr.buffer = buffer;
+                writes.push_back(wr);
+            }
             for (const Output& o : pass.outputs)
             {
                 rhi::DescriptorWrite wr;
@@ -587,11 +605,78 @@ struct SceneLab::Impl
         return reinterpret_cast<const float*>(static_cast<const uint8_t*>(device.MapBuffer(*readback)) + offset);
     }
 
+    bool UploadMeshes(const Scene& scene);
     void Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
                 const RenderParams& p, uint32_t seed);
     void StoreNoisy(Slot slot, const float* d, uint32_t w, uint32_t h, FrameData& out);
     bool Render(const Scene& scene, const RenderParams& p, FrameData& out, std::string& err);
 };
+
+// The meshes of 'scene' -> bvhNodes / triangles, concatenated (node and triangle indices offset);
+// kept while the next scene uses the same meshes. Without meshes the buffers hold one zero element.
+bool SceneLab::Impl::UploadMeshes(const Scene& scene)
+{
+    std::vector<std::shared_ptr<const MeshData>> wanted;
+    for (const Object& o : scene.objects)
+        if (o.type == PrimitiveType::MESH && o.mesh && std::find(wanted.begin(), wanted.end(), o.mesh) == wanted.end())
+            wanted.push_back(o.mesh);
+    if (bvhNodes && wanted == meshes)
+        return true;
+    size_t nodeNum = 0, triangleNum = 0;
+    for (const auto& m : wanted)
+    {
+        nodeNum += m->nodes.size();
+        triangleNum += m->triangles.size();
+    }
+    device.WaitIdle();
+    device.DestroyBuffer(bvhNodes);
+    device.DestroyBuffer(triangles);
+    bvhNodes = triangles = nullptr;
+    meshes.clear();
+    meshRoots.clear();
+    auto makeBuffer = [&](uint64_t size, const char* name, rhi::Buffer*& out) {
+        rhi::BufferDesc bd;
+        bd.size = size;
+        bd.usage = rhi::BUFFER_USAGE_STORAGE;
+        bd.location = rhi::MemoryLocation::HOST_UPLOAD;
+        bd.name = name;
+        return Check(device.CreateBuffer(bd, out), "CreateBuffer");
+    };
+    if (!makeBuffer(sizeof(gpu::LabBvhNode) * std::max<size_t>(nodeNum, 1), "LabBvhNodes", bvhNodes) ||
+        !makeBuffer(sizeof(gpu::LabTriangle) * std::max<size_t>(triangleNum, 1), "LabTriangles", triangles))
+        return false;
+    auto* nodes = static_cast<gpu::LabBvhNode*>(device.MapBuffer(*bvhNodes));
+    auto* tris = static_cast<gpu::LabTriangle*>(device.MapBuffer(*triangles));
+    std::memset(nodes, 0, sizeof(gpu::LabBvhNode));
+    std::memset(tris, 0, sizeof(gpu::LabTriangle));
+    auto bits = [](uint32_t u) {
+        float f;
+        std::memcpy(&f, &u, sizeof(f));
+        return f;
+    };
+    uint32_t nodeBase = 0, triangleBase = 0;
+    for (const auto& m : wanted)
+    {
+        for (const BvhNode& n : m->nodes)
+        {
+            uint32_t first = n.first + (n.count > 0 ? triangleBase : nodeBase);
+            *nodes++ = {{n.boundsMin.x, n.boundsMin.y, n.boundsMin.z, bits(first)},
+                        {n.boundsMax.x, n.boundsMax.y, n.boundsMax.z, bits(n.count)}};
+        }
+        for (const MeshTriangle& t : m->triangles)
+        {
+            const glm::vec3 e1 = t.p[1] - t.p[0], e2 = t.p[2] - t.p[0]; // as Mesh.cpp IntersectMesh
+            *tris++ = {{t.p[0].x, t.p[0].y, t.p[0].z, 0.0f}, {e1.x, e1.y, e1.z, 0.0f}, {e2.x, e2.y, e2.z, 0.0f},
+                       {t.n[0].x, t.n[0].y, t.n[0].z, 0.0f}, {t.n[1].x, t.n[1].y, t.n[1].z, 0.0f},
+                       {t.n[2].x, t.n[2].y, t.n[2].z, 0.0f}};
+        }
+        meshRoots.push_back(nodeBase);
+        nodeBase += uint32_t(m->nodes.size());
+        triangleBase += uint32_t(m->triangles.size());
+    }
+    meshes = std::move(wanted);
+    return true;
+}
 
 void SceneLab::Impl::Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
                             const RenderParams& p, uint32_t seed)
@@ -620,6 +705,8 @@ void SceneLab::Impl::Upload(const Scene& scene, const SceneState& cur, const Sce
         const Object& o = scene.objects[i];
         gpu::LabObject g = {};
         g.info = {uint32_t(o.type), uint32_t(i), 0u, 0u};
+        if (o.type == PrimitiveType::MESH)
+            g.info.w = meshRoots[size_t(std::find(meshes.begin(), meshes.end(), o.mesh) - meshes.begin())];
         if (o.type == PrimitiveType::SPHERE)
             g.size = {o.radius, o.radius, o.radius, 0.0f};
         else
@@ -742,6 +829,9 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
         return fail("truthChunkSpp must be at least 1");
     if (scene.objects.size() > kMaxObjects || scene.lights.size() > kMaxLights)
         return fail("the scene has more objects or lights than the path tracer supports");
+    for (size_t i = 0; i < scene.objects.size(); i++)
+        if (scene.objects[i].type == PrimitiveType::MESH && (!scene.objects[i].mesh || scene.objects[i].mesh->nodes.empty()))
+            return fail("object " + std::to_string(i) + " is a mesh without loaded triangles");
     if ((p.signals & SIGNAL_SHADOW) && p.lightIndex >= scene.lights.size())
         return fail("lightIndex " + std::to_string(p.lightIndex) + " out of range: the scene has " +
                     std::to_string(scene.lights.size()) + " light(s)");
@@ -853,6 +943,8 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
     if (noisyPasses.empty() && truthPasses.empty())
         return true;
 
+    if (!UploadMeshes(scene))
+        return fail(error);
     Upload(scene, cur, prev, out.camera, p, seed);
     if (!Check(device.ResetDescriptorPool(*descriptorPool), "ResetDescriptorPool"))
         return fail(error);

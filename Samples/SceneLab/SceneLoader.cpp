@@ -4,6 +4,8 @@
 // "did you mean" hint for typos). nlohmann::json exceptions never leave this file.
 #include "Scene.h"
 
+#include "Mesh.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -60,6 +62,7 @@ class Reader
 {
 public:
     std::string error;
+    std::string sceneDirectory; // Of the scene file ("" for JSON text): relative model paths start here.
 
     bool Fail(const std::string& path, const std::string& message)
     {
@@ -344,15 +347,54 @@ bool ReadCamera(Reader& r, const json& j, CameraDesc& cam)
                          });
 }
 
+// A model path as written in a scene -> the file to load (see LoadScene in Scene.h).
+std::string ResolveModelPath(const std::string& sceneDirectory, const std::string& file)
+{
+    std::error_code ec;
+    std::filesystem::path p(file);
+    if (p.is_absolute())
+        return file;
+    std::filesystem::path local = sceneDirectory.empty() ? p : std::filesystem::path(sceneDirectory) / p;
+    if (std::filesystem::exists(local, ec))
+        return local.string();
+    std::filesystem::path shared = std::filesystem::path(GetModelsDirectory()) / p;
+    if (std::filesystem::exists(shared, ec))
+        return shared.string();
+    return local.string(); // Missing everywhere: the error names the first place looked at.
+}
+
+bool ReadMesh(Reader& r, const json& j, const std::string& path, Object& o)
+{
+    if (!j.contains("file"))
+        return r.Fail(path, "missing key \"file\" (a glTF, OBJ or other model file)");
+    if (!r.String(j["file"], Reader::Join(path, "file"), o.file))
+        return false;
+    if (o.file.empty())
+        return r.Fail(Reader::Join(path, "file"), "empty path");
+    if (j.contains("scale"))
+    {
+        if (!r.Vec3(j["scale"], Reader::Join(path, "scale"), 0.0f, 1e6f, true, o.scale))
+            return false;
+        if (o.scale.x <= 0.0f || o.scale.y <= 0.0f || o.scale.z <= 0.0f)
+            return r.Fail(Reader::Join(path, "scale"), "expected positive scale factors, got " + Describe(j["scale"]));
+    }
+    std::string error;
+    o.mesh = LoadMeshShared(ResolveModelPath(r.sceneDirectory, o.file), glm::vec3(o.scale.x, o.scale.y, o.scale.z),
+                            error);
+    if (!o.mesh)
+        return r.Fail(Reader::Join(path, "file"), error);
+    return true;
+}
+
 bool ReadObject(Reader& r, const json& j, const std::string& path, const json& materials, Object& o)
 {
     if (!r.CheckObject(j, path, {"name", "type", "material", "position", "rotation", "normal", "radius", "size",
-                                 "keyframes"}))
+                                 "file", "scale", "keyframes"}))
         return false;
     if (j.contains("name") && !r.String(j["name"], Reader::Join(path, "name"), o.name))
         return false;
     if (!j.contains("type"))
-        return r.Fail(path, "missing key \"type\" (sphere, box, plane or quad)");
+        return r.Fail(path, "missing key \"type\" (sphere, box, plane, quad or mesh)");
     std::string type;
     if (!r.String(j["type"], Reader::Join(path, "type"), type))
         return false;
@@ -364,14 +406,25 @@ bool ReadObject(Reader& r, const json& j, const std::string& path, const json& m
         o.type = PrimitiveType::PLANE;
     else if (type == "quad")
         o.type = PrimitiveType::QUAD;
+    else if (type == "mesh")
+        o.type = PrimitiveType::MESH;
     else
-        return r.Fail(Reader::Join(path, "type"), "expected \"sphere\", \"box\", \"plane\" or \"quad\", got " +
-                                                      Describe(j["type"]));
+        return r.Fail(Reader::Join(path, "type"),
+                      "expected \"sphere\", \"box\", \"plane\", \"quad\" or \"mesh\", got " + Describe(j["type"]));
 
     // Shape parameters: only the ones of this type are accepted.
     auto unexpected = [&](const char* key) {
         return r.Fail(Reader::Join(path, key), std::string("not a parameter of a ") + type);
     };
+    if (o.type == PrimitiveType::MESH)
+    {
+        if (j.contains("size"))
+            return unexpected("size");
+        if (!ReadMesh(r, j, path, o))
+            return false;
+    }
+    else if (j.contains("file") || j.contains("scale"))
+        return unexpected(j.contains("file") ? "file" : "scale");
     if (o.type == PrimitiveType::SPHERE)
     {
         if (j.contains("size"))
@@ -741,6 +794,8 @@ bool LoadScene(const std::string& pathOrText, Scene& out, std::string& error)
         }
 
         Reader reader;
+        if (!source.empty())
+            reader.sceneDirectory = std::filesystem::path(source).parent_path().string();
         Scene scene;
         if (!ReadScene(reader, doc, scene))
         {
@@ -750,6 +805,10 @@ bool LoadScene(const std::string& pathOrText, Scene& out, std::string& error)
         if (scene.name.empty() && !source.empty())
             scene.name = std::filesystem::path(source).stem().string();
         scene.canonicalJson = doc.dump();
+        // A model file edited in place changes the scene: its content is part of the key.
+        for (const Object& o : scene.objects)
+            if (o.mesh)
+                scene.canonicalJson += "|mesh:" + std::to_string(o.mesh->hash);
         out = std::move(scene);
         return true;
     }

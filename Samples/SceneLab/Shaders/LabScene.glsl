@@ -1,4 +1,5 @@
-// LabScene.glsl - scene buffers, ray intersection (brute force over a small primitive list), light
+// LabScene.glsl - scene buffers, ray intersection (brute force over a small primitive list, each
+// mesh through its BVH), light
 // sampling and the per-sample estimators shared by every lab pass, so the noisy input, the ground
 // truth and the temporal gradients evaluate exactly the same functions.
 //
@@ -37,6 +38,16 @@ layout(set = 0, binding = LAB_BINDING_LIGHTS, std140) uniform LabLightsBlock
     LabLight gLights[LAB_MAX_LIGHTS];
 };
 
+// Meshes: read by whichever lane hits them, in no common order (storage buffers).
+layout(set = 0, binding = LAB_BINDING_BVH_NODES, std430) readonly buffer LabBvhNodesBlock
+{
+    LabBvhNode gBvhNodes[];
+};
+layout(set = 0, binding = LAB_BINDING_TRIANGLES, std430) readonly buffer LabTrianglesBlock
+{
+    LabTriangle gTriangles[];
+};
+
 #define LAB_NO_HIT 3.0e38
 
 struct Hit
@@ -68,8 +79,8 @@ vec3 ToLocalPoint(uint o, uint slot, vec3 p)
     vec4 r1 = gObjects[o].xform[slot * 3u + 1u];
     vec4 r2 = gObjects[o].xform[slot * 3u + 2u];
     vec3 d = p - vec3(r0.w, r1.w, r2.w);
-    // Inverse rotation = transpose: local = R^T d.
-    return vec3(r0.x, r1.x, r2.x) * d.x + vec3(r0.y, r1.y, r2.y) * d.y + vec3(r0.z, r1.z, r2.z) * d.z;
+    // Inverse rotation = transpose: local = R^T d, the rows of R weighted by d.
+    return r0.xyz * d.x + r1.xyz * d.y + r2.xyz * d.z;
 }
 
 vec3 ToLocalVector(uint o, uint slot, vec3 v)
@@ -77,7 +88,7 @@ vec3 ToLocalVector(uint o, uint slot, vec3 v)
     vec4 r0 = gObjects[o].xform[slot * 3u + 0u];
     vec4 r1 = gObjects[o].xform[slot * 3u + 1u];
     vec4 r2 = gObjects[o].xform[slot * 3u + 2u];
-    return vec3(r0.x, r1.x, r2.x) * v.x + vec3(r0.y, r1.y, r2.y) * v.y + vec3(r0.z, r1.z, r2.z) * v.z;
+    return r0.xyz * v.x + r1.xyz * v.y + r2.xyz * v.z;
 }
 
 vec3 ToWorldPoint(uint o, uint slot, vec3 p)
@@ -160,6 +171,119 @@ float IntersectLocal(uint type, vec4 size, vec3 o, vec3 d, float tMin, float tMa
     return t;
 }
 
+// Entry distance of the ray into a BVH node's box within [0, tMax], LAB_NO_HIT if it misses.
+float BvhNodeEntry(uint node, vec3 o, vec3 invD, float tMax)
+{
+    vec3 t0 = (gBvhNodes[node].boundsMinFirst.xyz - o) * invD;
+    vec3 t1 = (gBvhNodes[node].boundsMaxCount.xyz - o) * invD;
+    vec3 tn = min(t0, t1);
+    vec3 tf = max(t0, t1);
+    float enter = max(max(tn.x, tn.y), max(tn.z, 0.0));
+    float exit = min(min(tf.x, tf.y), min(tf.z, tMax));
+    return enter <= exit ? enter : LAB_NO_HIT;
+}
+
+// Closest triangle of the BVH at 'root' along o + t d (object space), t in (0, tMax); with
+// 'anyHit' the first one found. Returns t or LAB_NO_HIT and, on a hit, the interpolated vertex
+// normal turned to the side of the face the ray comes from. Children are visited nearest first;
+// the far one waits on the stack with its entry distance, skipped if a closer hit was found since.
+// Same triangle test as Mesh.cpp IntersectMesh (the tests compare them).
+float IntersectMesh(uint root, vec3 o, vec3 d, float tMax, bool anyHit, out vec3 n)
+{
+    n = vec3(0.0, 1.0, 0.0);
+    vec3 invD = 1.0 / d;
+    float best = tMax;
+    int bestTri = -1;
+    vec2 bestUv = vec2(0.0);
+    uint stackNode[LAB_BVH_STACK];
+    float stackEntry[LAB_BVH_STACK];
+    uint top = 0u;
+    uint node = root;
+    float entry = BvhNodeEntry(root, o, invD, best);
+    if (entry >= LAB_NO_HIT)
+        return LAB_NO_HIT;
+    while (true)
+    {
+        uint first = floatBitsToUint(gBvhNodes[node].boundsMinFirst.w);
+        uint count = floatBitsToUint(gBvhNodes[node].boundsMaxCount.w);
+        bool descend = false;
+        if (count == 0u)
+        {
+            float tl = BvhNodeEntry(first, o, invD, best);
+            float tr = BvhNodeEntry(first + 1u, o, invD, best);
+            uint near = tl <= tr ? first : first + 1u;
+            float nearEntry = min(tl, tr);
+            float farEntry = max(tl, tr);
+            if (farEntry < LAB_NO_HIT && top < uint(LAB_BVH_STACK))
+            {
+                stackNode[top] = near == first ? first + 1u : first;
+                stackEntry[top] = farEntry;
+                top++;
+            }
+            if (nearEntry < LAB_NO_HIT)
+            {
+                node = near;
+                descend = true;
+            }
+        }
+        else
+        {
+            for (uint i = first; i < first + count; i++)
+            {
+                vec3 p0 = gTriangles[i].p0.xyz;
+                vec3 e1 = gTriangles[i].e1.xyz;
+                vec3 e2 = gTriangles[i].e2.xyz;
+                vec3 pv = cross(d, e2);
+                float det = dot(e1, pv);
+                if (det == 0.0)
+                    continue;
+                float invDet = 1.0 / det;
+                vec3 s = o - p0;
+                float u = dot(s, pv) * invDet;
+                if (u < 0.0 || u > 1.0)
+                    continue;
+                vec3 q = cross(s, e1);
+                float v = dot(d, q) * invDet;
+                if (v < 0.0 || u + v > 1.0)
+                    continue;
+                float t = dot(e2, q) * invDet;
+                if (t > 0.0 && t < best)
+                {
+                    best = t;
+                    bestTri = int(i);
+                    bestUv = vec2(u, v);
+                }
+            }
+            if (anyHit && bestTri >= 0)
+                break;
+        }
+        if (descend)
+            continue;
+        // Pop the nearest pending node that can still hold a closer hit.
+        bool found = false;
+        while (top > 0u && !found)
+        {
+            top--;
+            if (stackEntry[top] < best)
+            {
+                node = stackNode[top];
+                found = true;
+            }
+        }
+        if (!found)
+            break;
+    }
+    if (bestTri < 0)
+        return LAB_NO_HIT;
+    uint i = uint(bestTri);
+    vec3 ns = gTriangles[i].n0.xyz * (1.0 - bestUv.x - bestUv.y) + gTriangles[i].n1.xyz * bestUv.x +
+              gTriangles[i].n2.xyz * bestUv.y;
+    ns = normalize(ns);
+    vec3 ng = cross(gTriangles[i].e1.xyz, gTriangles[i].e2.xyz);
+    n = dot(ng, d) > 0.0 ? -ns : ns;
+    return best;
+}
+
 // World-space intersection of object i (state 'slot') with o + t d, t in (0, tMax): returns t or
 // LAB_NO_HIT and, on a hit, the local normal, local origin and local direction. Spheres and planes
 // are tested in world space (no transform of the ray), boxes and quads in object space.
@@ -210,6 +334,8 @@ float IntersectObject(uint i, uint slot, vec3 o, vec3 d, float tMax, out vec3 ln
     }
     lo = ToLocalPoint(i, slot, o);
     ld = ToLocalVector(i, slot, d);
+    if (type == LAB_PRIM_MESH)
+        return IntersectMesh(gObjects[i].info.w, lo, ld, tMax, false, ln);
     return IntersectLocal(type, size, lo, ld, 0.0, tMax, ln);
 }
 
@@ -244,7 +370,11 @@ Hit TraceClosest(vec3 o, vec3 d, float tMax, uint slot)
         h.localPos = bestLocalO + best * bestLocalD;
         h.pos = o + best * d;
         vec3 N = normalize(ToWorldVector(i, slot, bestLocalN));
-        h.N = dot(N, d) > 0.0 ? -N : N; // Two-sided: face the incoming ray.
+        // Two-sided: face the incoming ray. Mesh normals already face it by their triangle's side
+        // (a smooth normal may lean away from the ray near silhouettes and must keep its side).
+        if (gObjects[i].info.x != LAB_PRIM_MESH)
+            N = dot(N, d) > 0.0 ? -N : N;
+        h.N = N;
     }
     return h;
 }
@@ -256,7 +386,14 @@ bool TraceAny(vec3 o, vec3 d, float tMax, uint slot)
     for (uint i = 0u; i < n; i++)
     {
         vec3 ln, lo, ld;
-        if (IntersectObject(i, slot, o, d, tMax, ln, lo, ld) < tMax)
+        if (gObjects[i].info.x == LAB_PRIM_MESH)
+        {
+            // Any triangle will do: the traversal stops at the first one.
+            if (IntersectMesh(gObjects[i].info.w, ToLocalPoint(i, slot, o), ToLocalVector(i, slot, d), tMax, true,
+                              ln) < tMax)
+                return true;
+        }
+        else if (IntersectObject(i, slot, o, d, tMax, ln, lo, ld) < tMax)
             return true;
     }
     return false;

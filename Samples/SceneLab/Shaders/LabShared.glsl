@@ -19,6 +19,7 @@ struct mat4 { float m[16]; }; // Column-major, as GLSL.
 #define LAB_PRIM_BOX 1
 #define LAB_PRIM_PLANE 2
 #define LAB_PRIM_QUAD 3
+#define LAB_PRIM_MESH 4
 #define LAB_LIGHT_SUN 0
 #define LAB_LIGHT_SPHERE 1
 #define LAB_LIGHT_POINT 2
@@ -77,7 +78,13 @@ struct mat4 { float m[16]; }; // Column-major, as GLSL.
 #define LAB_BINDING_ACC_B 16
 // LabGradients output (rgba32f), ceil(w / 3) x ceil(h / 3)
 #define LAB_BINDING_GRADIENTS 17     // |dLum| diffuse, max lum diffuse, |dLum| specular, max lum specular
-#define LAB_BINDING_NUM 18
+// Triangle meshes (readonly storage buffers, every pass; one dummy element when the scene has none)
+#define LAB_BINDING_BVH_NODES 18     // LabBvhNode[], the BVHs of every mesh one after the other
+#define LAB_BINDING_TRIANGLES 19     // LabTriangle[], in BVH leaf order
+#define LAB_BINDING_NUM 20
+
+// Traversal stack of the mesh BVH: Mesh.h kMaxBvhDepth + 1.
+#define LAB_BVH_STACK 64
 
 struct LabConstants
 {
@@ -106,7 +113,8 @@ struct LabTruthChunk
 // (slot 0: this frame, slot 1: previous frame).
 struct LabObject
 {
-    uvec4 info;     // type, material index, 1 if the transform is the same in both slots, 0
+    uvec4 info;     // type, material index, 1 if the transform is the same in both slots,
+                    // mesh: index of its BVH root in LabBvhNode[]
     vec4 size;      // sphere: radius; box: half extents; quad: half width (x), half depth (z)
     vec4 xform[6];
 };
@@ -126,7 +134,30 @@ struct LabLight
     vec4 intensity[2]; // rgb (0 if disabled), w = tan(angular radius) (sun)
 };
 
+// One BVH node in object space. w components hold uints (floatBitsToUint): interior nodes have
+// count 0 and children first, first + 1 (indices into LabBvhNode[]); leaves hold triangles
+// [first, first + count) of LabTriangle[].
+struct LabBvhNode
+{
+    vec4 boundsMinFirst;
+    vec4 boundsMaxCount;
+};
+
+// One triangle in object space: p0, edges p1 - p0 and p2 - p0 (Moller-Trumbore), and the unit
+// vertex normals (smooth shading).
+struct LabTriangle
+{
+    vec4 p0;
+    vec4 e1;
+    vec4 e2;
+    vec4 n0;
+    vec4 n1;
+    vec4 n2;
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(LabBvhNode) == 32, "LabBvhNode layout");
+static_assert(sizeof(LabTriangle) == 96, "LabTriangle layout");
 static_assert(sizeof(LabConstants) == 4 * 64 + 6 * 16 + 3 * 16, "LabConstants layout");
 static_assert(sizeof(LabObject) == 128, "LabObject layout");
 static_assert(sizeof(LabMaterial) == 32, "LabMaterial layout");
