@@ -163,6 +163,56 @@ TEST_CASE("ReuseBounds: surface ids keep a revealed background from reusing the 
     CHECK(withIds.Add(truth1, truth1, motion1, &id1).reprojectedTruthRelmse == -1.0);
 }
 
+TEST_CASE("ReuseBounds: depth in the surface ids keeps an object from reusing a part of itself it hid",
+          "[reuse_bounds]")
+{
+    // As above, but foreground and background are parts of one mesh (id 1 everywhere): the front
+    // part at viewZ 1 moves two pixels left and reveals the back part (viewZ 2). The id alone lets
+    // the revealed pixels reuse the front part; the previous-frame depth does not.
+    const uint32_t w = 8, h = 5;
+    auto frame = [&](uint32_t edge, float fg, float bg)
+    {
+        Image image(w, h, 1);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+                image.at(x, y, 0) = x < edge ? fg : bg;
+        return image;
+    };
+    Image truth0 = frame(4, 0.75f, 0.25f), truth1 = frame(2, 0.75f, 0.25f);
+    auto ids = [&](uint32_t edge)
+    {
+        Image image(w, h, 3);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+            {
+                image.at(x, y, 0) = 1.0f;
+                image.at(x, y, 1) = x < edge ? 1.0f : 2.0f; // viewZ
+                image.at(x, y, 2) = image.at(x, y, 1);      // nothing moves in depth
+            }
+        return image;
+    };
+    Image id0 = ids(4), id1 = ids(2);
+    Image motion0(w, h, 2), motion1(w, h, 2);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < 2; x++)
+            motion1.at(x, y, 0) = 2.0f / float(w);
+
+    Image objectOnly0(w, h, 1, 1.0f), objectOnly1(w, h, 1, 1.0f);
+    ReuseBounds byObject;
+    byObject.Add(truth0, truth0, motion0, &objectOnly0);
+    CHECK(byObject.Add(truth1, truth1, motion1, &objectOnly1).reprojectedTruthRelmse ==
+          Approx(0.25 / 0.0725 * 2.0 / 8.0).epsilon(1e-5));
+
+    ReuseBounds byDepth;
+    byDepth.Add(truth0, truth0, motion0, &id0);
+    ReuseBoundsFrame c = byDepth.Add(truth1, truth1, motion1, &id1);
+    CHECK(c.reprojectedTruthRelmse == Approx(0.0).margin(1e-12));
+    CHECK(c.oracleRelmse == Approx(0.0).margin(1e-12));
+
+    // A switch between 1- and 3-channel ids restarts the history.
+    CHECK(byDepth.Add(truth1, truth1, motion1, &objectOnly1).reprojectedTruthRelmse == -1.0);
+}
+
 TEST_CASE("ReuseBounds: mismatched input restarts the sequence", "[reuse_bounds]")
 {
     ReuseBounds bounds;

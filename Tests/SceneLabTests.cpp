@@ -1023,3 +1023,38 @@ TEST_CASE("the GPU traversal sees what the CPU brute force sees through every pi
     CHECK(enginePixels > p.width * p.height / 5);
     CHECK(agree >= enginePixels - 2);
 }
+
+TEST_CASE("surface ids carry the depth each pixel's surface point had on the previous frame", "[scenelab][vulkan]")
+{
+    Scene scene = LoadBuiltin("camera_translation");
+    RenderParams p;
+    p.width = 64;
+    p.height = 48;
+    p.truthSpp = 0;
+    p.signals = 0;
+    p.frameIndex = 9;
+    FrameData prev = Render(scene, p);
+    p.frameIndex = 10;
+    FrameData cur = Render(scene, p);
+    Image ids = SurfaceIds(cur);
+    REQUIRE(ids.channels == 3);
+    uint32_t checked = 0, close = 0;
+    for (uint32_t y = 0; y < p.height; y++)
+        for (uint32_t x = 0; x < p.width; x++)
+        {
+            CHECK(ids.at(x, y, 0) == cur.objectIndex.at(x, y, 0));
+            CHECK(ids.at(x, y, 1) == cur.viewZ.at(x, y, 0));
+            if (cur.viewZ.at(x, y, 0) >= kSkyViewZ)
+                continue;
+            // The previous frame's viewZ at the nearest texel of the reprojected position.
+            float px = (x + 0.5f + cur.motion2d.at(x, y, 0) * p.width), py = (y + 0.5f + cur.motion2d.at(x, y, 1) * p.height);
+            if (px < 1.0f || py < 1.0f || px > p.width - 1.0f || py > p.height - 1.0f)
+                continue;
+            checked++;
+            float zPrev = prev.viewZ.at(uint32_t(px), uint32_t(py), 0);
+            close += std::fabs(ids.at(x, y, 2) - zPrev) <= 0.03f * zPrev ? 1 : 0;
+        }
+    // Away from silhouettes (a nearest texel across an edge) the depths agree.
+    CHECK(checked > p.width * p.height / 2);
+    CHECK(close >= checked * 9 / 10);
+}

@@ -20,11 +20,37 @@ void CatmullRom(float t, float w[4])
     w[3] = t * t * (-0.5f + 0.5f * t);
 }
 
+// Whether previous texel (tx, ty) of 'idPrev' holds the surface of a pixel with id 'id' and, with
+// 3-channel ids, previous-frame depth 'viewZPrev': the texel's own viewZ (channel 1) must lie within
+// 1% of it plus twice the texel's depth slope (the smaller one-sided difference along each axis,
+// so that a neighbouring edge does not widen the tolerance): one object can hide parts of itself.
+bool SameSurface(const Image& idPrev, int tx, int ty, float id, float viewZPrev)
+{
+    if (idPrev.at(uint32_t(tx), uint32_t(ty), 0) != id)
+        return false;
+    if (idPrev.channels < 3)
+        return true;
+    const int w = int(idPrev.width), h = int(idPrev.height);
+    auto z = [&](int x, int y) { return idPrev.at(uint32_t(x), uint32_t(y), 1); };
+    const float zt = z(tx, ty);
+    auto slope = [&](int dx, int dy) {
+        float s = INFINITY;
+        if (tx - dx >= 0 && ty - dy >= 0)
+            s = std::fabs(zt - z(tx - dx, ty - dy));
+        if (tx + dx < w && ty + dy < h)
+            s = std::min(s, std::fabs(z(tx + dx, ty + dy) - zt));
+        return std::isfinite(s) ? s : 0.0f;
+    };
+    const float tolerance = 0.01f * std::fabs(viewZPrev) + 2.0f * std::max(slope(1, 0), slope(0, 1));
+    return std::fabs(zt - viewZPrev) <= tolerance; // False for NaN.
+}
+
 // 'image' at the previous-frame position of pixel (x, y), or false where that position lies
 // outside the texel centres of the image (or the motion is not finite), or where no texel around it
-// holds the pixel's surface: 'idPrev' (may be null: every texel matches) against 'id'.
+// holds the pixel's surface: 'idPrev' (may be null: every texel matches) against 'id' and
+// 'viewZPrev' (see SameSurface).
 bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, const Image* idPrev, float id,
-              float* out)
+              float viewZPrev, float* out)
 {
     const float u = (float(x) + 0.5f) / float(image.width) + motion.at(x, y, 0);
     const float v = (float(y) + 0.5f) / float(image.height) + motion.at(x, y, 1);
@@ -34,7 +60,7 @@ bool Resample(const Image& image, const Image& motion, uint32_t x, uint32_t y, c
     const int w = int(image.width), h = int(image.height);
     const int ox = std::min(int(px), std::max(w - 2, 0)), oy = std::min(int(py), std::max(h - 2, 0));
     const float fx = px - float(ox), fy = py - float(oy);
-    auto matches = [&](int tx, int ty) { return !idPrev || idPrev->at(uint32_t(tx), uint32_t(ty), 0) == id; };
+    auto matches = [&](int tx, int ty) { return !idPrev || SameSurface(*idPrev, tx, ty, id, viewZPrev); };
     bool isCubic = ox >= 1 && oy >= 1 && ox + 2 < w && oy + 2 < h;
     for (int j = -1; j <= 2 && isCubic; j++)
         for (int i = -1; i <= 2 && isCubic; i++)
@@ -110,7 +136,8 @@ ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const 
         return result;
     }
     // Ids on both frames, or on neither.
-    const bool hasHistory = SameShape(m_TruthPrev, truth) && (surfaceId != nullptr) == m_SurfaceIdPrev.isValid();
+    const bool hasHistory = SameShape(m_TruthPrev, truth) && (surfaceId != nullptr) == m_SurfaceIdPrev.isValid() &&
+                            (!surfaceId || surfaceId->channels == m_SurfaceIdPrev.channels);
     const Image* idPrev = surfaceId ? &m_SurfaceIdPrev : nullptr;
     const size_t oracles = m_Alphas.size();
     Image reprojected = truth;
@@ -121,14 +148,15 @@ ReuseBoundsFrame ReuseBounds::Add(const Image& noisy, const Image& truth, const 
         for (uint32_t x = 0; x < truth.width; x++)
         {
             const float id = surfaceId ? surfaceId->at(x, y, 0) : 0.0f;
-            if (hasHistory && Resample(m_TruthPrev, motion, x, y, idPrev, id, value))
+            const float viewZPrev = surfaceId && surfaceId->channels >= 3 ? surfaceId->at(x, y, 2) : 0.0f;
+            if (hasHistory && Resample(m_TruthPrev, motion, x, y, idPrev, id, viewZPrev, value))
             {
                 for (uint32_t c = 0; c < truth.channels; c++)
                     reprojected.at(x, y, c) = value[c];
             }
             for (size_t k = 0; k < oracles && hasHistory; k++)
             {
-                if (Resample(m_AccumulatedPrev[k], motion, x, y, idPrev, id, value))
+                if (Resample(m_AccumulatedPrev[k], motion, x, y, idPrev, id, viewZPrev, value))
                 {
                     for (uint32_t c = 0; c < truth.channels; c++)
                         accumulated[k].at(x, y, c) = value[c] + m_Alphas[k] * (noisy.at(x, y, c) - value[c]);

@@ -17,8 +17,11 @@
 // Disocclusion: given a surface id per pixel (the scene lab's object index), previous texels with
 // another id than the pixel's are not reused: Catmull-Rom needs all 16 texels of the pixel's
 // surface, else the bilinear weights of the matching texels are renormalized; with none, the pixel
-// has no history (as outside the image). The scene lab's objects are convex, so there the id is
-// an exact disocclusion test. Without ids every texel counts as the same surface.
+// has no history (as outside the image). An object id alone is an exact test only for convex
+// objects; a triangle mesh hides parts of itself. With 3-channel ids (object id, this frame's viewZ,
+// and the viewZ the pixel's surface point had in the previous frame's camera) a previous texel must
+// also hold that depth: within 1% plus twice its own depth slope (the smaller one-sided difference
+// per axis). Without ids every texel counts as the same surface.
 #pragma once
 
 #include "Image.h"
@@ -45,7 +48,9 @@ public:
 
     // One frame: the noisy input and the truth (same shape, 1..4 channels), the motion
     // (>= 2 channels: uvPrev - uv, v down, the size of the image) and optionally a surface id
-    // (>= 1 channel, the size of the image; the first channel is read). Mismatched or invalid
+    // (the size of the image; 1 channel: object id; 3 channels: object id, viewZ, previous-frame
+    // viewZ of the pixel's surface point, see above). Ids of another channel count than the last
+    // frame's restart the history. Mismatched or invalid
     // input returns all -1 and restarts the sequence.
     ReuseBoundsFrame Add(const Image& noisy, const Image& truth, const Image& motion, const Image* surfaceId = nullptr);
 

@@ -678,9 +678,10 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         FrameMetrics& m = report.perFrame.back();
         if (o.bounds)
         {
-            // The object index is an exact disocclusion test on the lab's convex objects.
-            const Image* surfaceId = frame.objectIndex.isValid() ? &frame.objectIndex : nullptr;
-            ReuseBoundsFrame b = bounds.Add(noisy, truth, frame.motion2d, surfaceId);
+            // Object index and depth: a disocclusion test that holds on meshes hiding parts of
+            // themselves (an object index alone is exact only on convex objects).
+            const Image surfaceIds = SurfaceIds(frame);
+            ReuseBoundsFrame b = bounds.Add(noisy, truth, frame.motion2d, surfaceIds.isValid() ? &surfaceIds : nullptr);
             m.boundReprojectedTruth = b.reprojectedTruthRelmse;
             m.boundOracle = b.oracleRelmse;
             m.boundOracleInstability = b.oracleInstability;

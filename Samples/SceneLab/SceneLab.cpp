@@ -292,6 +292,40 @@ uint64_t HashFrame(const FrameData& f)
     return Fnv1a64(f.shadowHitMask.data(), f.shadowHitMask.size() * sizeof(uint32_t), h);
 }
 
+Image SurfaceIds(const FrameData& frame)
+{
+    const uint32_t w = frame.width, h = frame.height;
+    if (!frame.viewZ.isValid() || !frame.motion3d.isValid() || !frame.objectIndex.isValid() ||
+        frame.viewZ.width != w || frame.viewZ.height != h)
+        return Image();
+    const float* V = frame.camera.worldToView;   // column-major: m[column * 4 + row]
+    const float* P = frame.camera.viewToClip;
+    const float* Vp = frame.camera.worldToViewPrev;
+    Image ids(w, h, 3);
+    for (uint32_t y = 0; y < h; y++)
+    {
+        for (uint32_t x = 0; x < w; x++)
+        {
+            const float z = frame.viewZ.at(x, y, 0);
+            ids.at(x, y, 0) = frame.objectIndex.at(x, y, 0);
+            ids.at(x, y, 1) = z;
+            ids.at(x, y, 2) = z;
+            if (z >= kSkyViewZ)
+                continue;
+            // View-space point (as LabScene.glsl PrimaryRay), to world: camera + R^T v.
+            const float ndcX = (float(x) + 0.5f) / float(w) * 2.0f - 1.0f;
+            const float ndcY = (float(y) + 0.5f) / float(h) * 2.0f - 1.0f;
+            const float v[3] = {ndcX / P[0] * z, ndcY / P[5] * z, z};
+            float posPrev[3];
+            for (int k = 0; k < 3; k++)
+                posPrev[k] = frame.camera.position[k] + V[k * 4 + 0] * v[0] + V[k * 4 + 1] * v[1] +
+                             V[k * 4 + 2] * v[2] + frame.motion3d.at(x, y, uint32_t(k));
+            ids.at(x, y, 2) = Vp[2] * posPrev[0] + Vp[6] * posPrev[1] + Vp[10] * posPrev[2] + Vp[14];
+        }
+    }
+    return ids;
+}
+
 bool IsLitInHitMask(const FrameData& frame, int32_t x, int32_t y)
 {
     if (x < 0 || y < 0 || uint32_t(x) >= frame.width || uint32_t(y) >= frame.height)

@@ -212,4 +212,10 @@ uint64_t HashFrame(const FrameData& frame);
 // Shadow hit mask bit of pixel (x, y) (true = lit); pixels outside the image are lit.
 bool IsLitInHitMask(const FrameData& frame, int32_t x, int32_t y);
 
+// Per pixel (3 ch): object index, viewZ, and the viewZ its surface point had in the previous
+// frame's camera (from the G-buffer: the point at viewZ through the pixel centre, plus motion3d).
+// The surface id of ReuseBounds (ReuseBounds.h): an exact disocclusion test up to its depth
+// tolerance, for meshes that hide parts of themselves too. Empty if the G-buffer is missing.
+Image SurfaceIds(const FrameData& frame);
+
 } // namespace nrdlab
