@@ -4,7 +4,7 @@
 // least half of what perfect temporal reuse reaches (`--bounds`' oracle, ReuseBounds.h).
 //
 // Not every scene meets it yet: the combinations in kShortfalls do not (measured on lavapipe when
-// written; Shaders/TiledShadow/README.md and the README's SIGMA section give the causes). Those
+// written, re-measured where the scene lab's fix of rotated boxes and quads changed the scenes; Shaders/TiledShadow/README.md and the README's SIGMA section give the causes). Those
 // assert their measured relMSE ratio (input / output, 5% below) and FLIP ratio (output / input, 5%
 // above) instead, so that they can only improve; move a line out of the table when it meets the bar.
 //
@@ -35,14 +35,14 @@ struct Shortfall
 // clang-format off
 const Shortfall kShortfalls[] = {
     {"camera_rotation", "TILED_SHADOW", 64, 0.43, 1.33}, // ratio 0.457 (oracle 1.24), FLIP 0.0062 -> 0.0078
-    {"camera_translation", "TILED_SHADOW", 64, 0.41, 1.35}, // ratio 0.433 (oracle 1.85), FLIP 0.0060 -> 0.0078
-    {"disocclusion", "TILED_SHADOW", 64, 1.06, 0.83}, // ratio 1.117 (oracle 6.61), FLIP 0.0049 -> 0.0039
+    {"camera_translation", "TILED_SHADOW", 64, 0.37, 1.35}, // ratio 0.389 (oracle 1.65), FLIP 0.0057 -> 0.0074
+    {"disocclusion", "TILED_SHADOW", 64, 0.87, 0.83}, // ratio 0.921 (oracle 5.70), FLIP 0.0051 -> 0.0038
     {"fast_orbit", "SIGMA_SHADOW", 64, 0.95, 1.05}, // ratio 1.000 (oracle 1.11), FLIP 0.0076 -> 0.0076
     {"fast_orbit", "TILED_SHADOW", 64, 0.29, 1.45}, // ratio 0.302 (oracle 1.11), FLIP 0.0076 -> 0.0104
     {"moving_light", "SIGMA_SHADOW", 64, 0.96, 1.85}, // ratio 1.008 (oracle 0.66), FLIP 0.0194 -> 0.0341
     {"moving_light", "TILED_SHADOW", 64, 0.24, 1.59}, // ratio 0.256 (oracle 0.66), FLIP 0.0194 -> 0.0293
     {"moving_occluder", "SIGMA_SHADOW", 64, 1.86, 1.31}, // ratio 1.961 (oracle 1.53), FLIP 0.0127 -> 0.0158
-    {"moving_occluder", "TILED_SHADOW", 64, 1.39, 1.43}, // ratio 1.465 (oracle 1.53), FLIP 0.0127 -> 0.0173
+    {"moving_occluder", "TILED_SHADOW", 64, 0.95, 1.43}, // ratio 1.001 (oracle 1.98), FLIP 0.0138 -> 0.0182
     {"toggling_light", "SIGMA_SHADOW", 64, 1.92, 2.69}, // ratio 2.023 (oracle 4.62), FLIP 0.0106 -> 0.0272
     {"toggling_light", "TILED_SHADOW", 64, 0.33, 1.66}, // ratio 0.348 (oracle 4.62), FLIP 0.0106 -> 0.0167
     {"venetian_blinds", "SIGMA_SHADOW", 64, 0.24, 2.23}, // ratio 0.255 (oracle 0.97), FLIP 0.0176 -> 0.0374
@@ -50,11 +50,12 @@ const Shortfall kShortfalls[] = {
     {"camera_rotation", "TILED_SHADOW", 128, 1.05, 1.09}, // ratio 1.101 (oracle 1.89), FLIP 0.0056 -> 0.0058
     {"camera_translation", "SIGMA_SHADOW", 128, 0.98, 1.04}, // ratio 1.034 (oracle 2.58), FLIP 0.0054 -> 0.0053
     {"camera_translation", "TILED_SHADOW", 128, 0.82, 1.06}, // ratio 0.863 (oracle 2.58), FLIP 0.0054 -> 0.0054
+    {"fast_orbit", "SIGMA_SHADOW", 128, 0.98, 1.05}, // ratio 1.032 (oracle 2.09), FLIP 0.0067 -> 0.0067
     {"fast_orbit", "TILED_SHADOW", 128, 0.65, 1.19}, // ratio 0.684 (oracle 2.00), FLIP 0.0064 -> 0.0073
     {"moving_light", "SIGMA_SHADOW", 128, 1.23, 1.52}, // ratio 1.291 (oracle 0.65), FLIP 0.0173 -> 0.0250
     {"moving_light", "TILED_SHADOW", 128, 1.25, 1.17}, // ratio 1.316 (oracle 0.65), FLIP 0.0173 -> 0.0192
-    {"moving_occluder", "SIGMA_SHADOW", 128, 1.76, 1.17}, // ratio 1.854 (oracle 1.72), FLIP 0.0114 -> 0.0127
-    {"moving_occluder", "TILED_SHADOW", 128, 2.53, 1.12}, // ratio 2.665 (oracle 1.72), FLIP 0.0114 -> 0.0121
+    {"moving_occluder", "SIGMA_SHADOW", 128, 1.59, 1.17}, // ratio 1.684 (oracle 1.77), FLIP 0.0122 -> 0.0135
+    {"moving_occluder", "TILED_SHADOW", 128, 2.20, 1.12}, // ratio 2.322 (oracle 1.77), FLIP 0.0122 -> 0.0128
     {"toggling_light", "SIGMA_SHADOW", 128, 3.37, 2.09}, // ratio 3.547 (oracle 5.06), FLIP 0.0088 -> 0.0175
     {"toggling_light", "TILED_SHADOW", 128, 1.46, 1.26}, // ratio 1.532 (oracle 5.06), FLIP 0.0088 -> 0.0106
     {"venetian_blinds", "SIGMA_SHADOW", 128, 0.13, 2.24}, // ratio 0.132 (oracle 0.84), FLIP 0.0158 -> 0.0338
