@@ -345,10 +345,13 @@ private:
         else
             chain.historyFix = builder.AddDispatch<HF>(
                 Name(isSpecular, 2), {normal, viewZ, m_Tiles, m_Signal, out, history, fast, stabilized});
-        chain.blur = builder.AddDispatch<BL>(Name(isSpecular, 3), {normal, viewZ, m_Tiles, fast, history, m_Signal});
-        chain.postBlur = builder.AddDispatch<BL>(Name(isSpecular, 4), {normal, viewZ, m_Tiles, fast, m_Signal, history});
+        // The history keeps the temporally accumulated signal: the blurs go through the output
+        // texture and the transient one, so that no frame's spatial filtering is carried into the
+        // next frames (a recurrent blur widens the effective kernel with every frame).
+        chain.blur = builder.AddDispatch<BL>(Name(isSpecular, 3), {normal, viewZ, m_Tiles, fast, history, out});
+        chain.postBlur = builder.AddDispatch<BL>(Name(isSpecular, 4), {normal, viewZ, m_Tiles, fast, out, m_Signal});
         chain.stabilization =
-            builder.AddDispatch<TS>(Name(isSpecular, 5), {normal, viewZ, m_Tiles, history, fast, stabilized, out});
+            builder.AddDispatch<TS>(Name(isSpecular, 5), {normal, viewZ, m_Tiles, m_Signal, fast, stabilized, out});
     }
 
     static const char* Name(bool isSpecular, int pass)

@@ -23,9 +23,57 @@ vec4 LoadSignal(ivec2 p)
         return _Reblur_LoadInput(gIn_Signal, p);
     vec4 v = texelFetch(sampler2D(gIn_Signal, gNearestClamp), p, 0);
 #if REBLUR_OCCLUSION
-    v.xyz = vec3(0.0);
+    // The post-blur reads the blur's result from the single-channel output texture.
+    v = vec4(0.0, 0.0, 0.0, gPassIndex == 2u ? v.x : v.w);
 #endif
     return _Reblur_Sanitize(v);
+}
+
+void Store(ivec2 pixel, vec4 v)
+{
+#if REBLUR_OCCLUSION
+    // The blur writes the single-channel output texture (.x), the other passes RGBA textures (.w).
+    v = gPassIndex == 1u ? v.wwww : vec4(0.0, 0.0, 0.0, v.w);
+#endif
+    imageStore(gOut_Signal, pixel, v);
+}
+
+// History fix (document 004, REBLUR: "history fix"), run by the blur where the history is shorter
+// than gHistoryFixFrameNum frames (disocclusion, anti-lag): a 5x5 sparse grid whose stride shrinks
+// as the history grows, weighted by geometry and favouring neighbours with a longer history.
+vec4 HistoryFix(ivec2 pixel, ReblurSurface s, vec4 center, float historyLength)
+{
+    ivec2 maxPixel = ivec2(gResourceSize) - 1;
+    float stride = max(gHistoryFixStride * (1.0 - historyLength / gHistoryFixFrameNum), 1.0);
+    float k = _Reblur_CompressionK(s.roughness);
+    vec4 sum = _Reblur_Compress(center, k);
+    float weightSum = 1.0;
+    for (int j = -2; j <= 2; j++)
+    {
+        for (int i = -2; i <= 2; i++)
+        {
+            if (i == 0 && j == 0)
+                continue;
+            ivec2 q = pixel + ivec2(round(vec2(i, j) * stride));
+            if (any(lessThan(q, ivec2(0))) || any(greaterThan(q, maxPixel)))
+                continue;
+            float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+            if (_NRD_IsSky(z))
+                continue;
+            vec4 nr = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0));
+            vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
+            vec3 Ns = normalize(transpose(mat3(gViewToWorld)) * nr.xyz);
+            float w = _Reblur_GeometryWeight(s, Xs, Ns, nr.w);
+            // Neighbours with a longer history carry more information.
+            w *= 1.0 + clamp(_NRD_Sanitize(texelFetch(sampler2D(gIn_Fast, gNearestClamp), q, 0).y, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
+            if (w > 0.0)
+            {
+                sum += _Reblur_Compress(LoadSignal(q), k) * w;
+                weightSum += w;
+            }
+        }
+    }
+    return _Reblur_Decompress(sum / weightSum, k);
 }
 
 void main()
@@ -45,9 +93,14 @@ void main()
     historyLength = clamp(_NRD_Sanitize(historyLength, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
     float radius = _Reblur_BlurRadius(historyLength, center.w, viewZ, s.roughness) * gPassRadiusScale;
     bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
+    if (gPassIndex == 1u && historyLength < gHistoryFixFrameNum && !isReference)
+    {
+        Store(pixel, _NRD_ClampToHalf(HistoryFix(pixel, s, center, historyLength)));
+        return;
+    }
     if ((isReference || radius < 0.5) && isTraced)
     {
-        imageStore(gOut_Signal, pixel, center);
+        Store(pixel, center);
         return;
     }
     radius = max(radius, 1.0);
@@ -97,8 +150,5 @@ void main()
         weightSum += w;
     }
     vec4 result = weightSum > 0.0 ? _Reblur_Decompress(sum / weightSum, k) : center;
-#if REBLUR_OCCLUSION
-    result.xyz = vec3(0.0);
-#endif
-    imageStore(gOut_Signal, pixel, _NRD_ClampToHalf(result));
+    Store(pixel, _NRD_ClampToHalf(result));
 }

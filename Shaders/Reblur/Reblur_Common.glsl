@@ -165,7 +165,7 @@ float _Reblur_HitDistFactor(float normHitDist, float viewZ, float roughness)
 
 float _Reblur_BlurRadius(float historyLength, float normHitDist, float viewZ, float roughness)
 {
-    float historyScale = 1.0 / sqrt(1.0 + historyLength);
+    float historyScale = 1.0 / (1.0 + historyLength);
     float r = gBlurRadius * historyScale * _Reblur_HitDistFactor(normHitDist, viewZ, roughness);
 #if REBLUR_SPECULAR
     float lobe = clamp(roughness * 2.0, 0.0, 1.0);

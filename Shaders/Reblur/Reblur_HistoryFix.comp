@@ -1,10 +1,10 @@
-// REBLUR history fix (document 004, REBLUR: "history fix"): where the history is shorter than
-// gHistoryFixFrameNum frames (disocclusion, anti-lag), the accumulated signal is replaced by a wide
-// sparse reconstruction from neighbours on the same surface: a 5x5 grid with a stride that shrinks
-// as the history grows, weighted by geometry and favouring neighbours with longer history.
-// Anti-firefly: the luminance is clamped to mean + gFireflyScale * sigma of the 3x3 neighbours
-// (centre excluded). Writes the slow history, the fast history + length and the reprojected
-// stabilized luminance for the later passes.
+// REBLUR history fix (document 004, REBLUR: "history fix"), first half: anti-firefly (the
+// luminance is clamped to mean + gFireflyScale * sigma of the 3x3 neighbours, centre excluded), and
+// the accumulated signal, the fast history + length and the reprojected stabilized luminance
+// written to the permanent textures. The second half, the wide sparse reconstruction of short
+// histories, runs in the blur dispatch (Reblur_Blur.comp): the history must keep the temporally
+// accumulated signal only, or the reconstruction's wide footprint would stay in the running mean
+// for many frames (contact shadows washed out on still views).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -43,44 +43,10 @@ void main()
     vec4 center = LoadSignal(pixel);
     vec4 aux = LoadAux(pixel);
     float historyLength = aux.y;
-    ReblurSurface s = _Reblur_Surface(gIn_NormalRoughness, pixel, viewZ);
     bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
     ivec2 maxPixel = ivec2(gResourceSize) - 1;
 
     vec4 result = center;
-    if (historyLength < gHistoryFixFrameNum && !isReference)
-    {
-        float stride = max(gHistoryFixStride * (1.0 - historyLength / gHistoryFixFrameNum), 1.0);
-        float k = _Reblur_CompressionK(s.roughness);
-        vec4 sum = _Reblur_Compress(center, k) * 1.0;
-        float weightSum = 1.0;
-        for (int j = -2; j <= 2; j++)
-        {
-            for (int i = -2; i <= 2; i++)
-            {
-                if (i == 0 && j == 0)
-                    continue;
-                ivec2 q = pixel + ivec2(round(vec2(i, j) * stride));
-                if (any(lessThan(q, ivec2(0))) || any(greaterThan(q, maxPixel)))
-                    continue;
-                float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
-                if (_NRD_IsSky(z))
-                    continue;
-                vec4 nr = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0));
-                vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
-                vec3 Ns = normalize(transpose(mat3(gViewToWorld)) * nr.xyz);
-                float w = _Reblur_GeometryWeight(s, Xs, Ns, nr.w);
-                // Neighbours with a longer history carry more information.
-                w *= 1.0 + LoadAux(q).y;
-                if (w > 0.0)
-                {
-                    sum += _Reblur_Compress(LoadSignal(q), k) * w;
-                    weightSum += w;
-                }
-            }
-        }
-        result = _Reblur_Decompress(sum / weightSum, k);
-    }
 
     // Anti-firefly on what the blur receives.
     if (gFireflyScale > 0.0 && !isReference)

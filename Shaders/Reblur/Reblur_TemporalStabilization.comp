@@ -62,10 +62,16 @@ void main()
         m1 /= weightSum; // >= 1: the centre has weight 1.
         m2 /= weightSum;
         float sigma = sqrt(max(m2 - m1 * m1, 0.0));
-        float clamped = clamp(stabilized, m1 - sigma, m1 + sigma);
+        // The box always holds the current value: mean +- sigma alone excludes the centre at local
+        // extrema of a smooth image (a contact shadow's floor, a highlight's peak), and clamping
+        // towards the mean there would blur them.
+        float clamped = clamp(stabilized, min(m1 - sigma, luma), max(m1 + sigma, luma));
         // Anti-lag: a history the clamp had to move is out of date.
         float moved = abs(clamped - stabilized) / (sigma + 0.02 * m1 + 1e-6);
-        float n = min(gStabilizationFrameNum, historyLength - 1.0) / (1.0 + moved);
+        // The stabilized history reaches back at most a quarter of the accumulated frames: older
+        // outputs were blurred with a wider radius (it falls as 1 / (1 + length)) and would keep
+        // their blur in the stabilized luminance.
+        float n = min(gStabilizationFrameNum, (historyLength - 1.0) * 0.25) / (1.0 + moved);
         result = mix(luma, clamped, n / (n + 1.0));
     }
     imageStore(gInOut_Stabilized, pixel, vec4(result));
