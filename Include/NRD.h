@@ -55,13 +55,14 @@ NRD_API const DenoiserDesc& GetDenoiserDesc(const Denoiser& denoiser);
 NRD_API Result SetCommonSettings(Denoiser& denoiser, const CommonSettings& settings);
 
 // Per-method settings. The type must match the method family of 'identifier' (SigmaSettings for
-// SIGMA_*, ReferenceSettings for REFERENCE, TiledShadowSettings for TILED_SHADOW, ReblurSettings for REBLUR_*); otherwise
+// SIGMA_*, ReferenceSettings for REFERENCE, TiledShadowSettings for TILED_SHADOW, ReblurSettings for REBLUR_*, ConfidenceSettings for CONFIDENCE); otherwise
 // INVALID_ARGUMENT. Out-of-range values return INVALID_ARGUMENT and keep the previous settings.
 // Unknown identifier: INVALID_ARGUMENT.
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const SigmaSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReferenceSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const TiledShadowSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReblurSettings& settings);
+NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ConfidenceSettings& settings);
 
 // Checks hit distance parameters against their documented ranges (finite, A > 0, B >= 0, C >= 1,
 // D <= 0); the settings of every method that takes HitDistanceParameters call it. Returns SUCCESS or

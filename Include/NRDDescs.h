@@ -63,6 +63,13 @@ enum class Method : uint32_t
     REBLUR_SPECULAR_OCCLUSION,
     REBLUR_DIFFUSE_SPECULAR_OCCLUSION,
 
+    // History confidence from sparse temporal gradients (document 003): IN_GRADIENTS (1/3
+    // resolution), IN_VIEWZ, IN_NORMAL_ROUGHNESS, IN_MV -> OUT_DIFF_CONFIDENCE / OUT_SPEC_CONFIDENCE
+    // (full resolution, ready to be bound as IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE of REBLUR or
+    // RELAX). Edge-aware a-trous filtering of the gradients, normalization, conversion to [0, 1]
+    // and a short temporal filter. Settings: ConfidenceSettings. Shaders/Confidence/README.md.
+    CONFIDENCE,
+
     MAX_NUM
 };
 
@@ -162,6 +169,14 @@ enum class ResourceType : uint32_t
     IN_DIFF_CONFIDENCE,
     IN_SPEC_CONFIDENCE,
 
+    // [RGBA16f+] CONFIDENCE input: sparse temporal gradients of luminance, one texel per 3x3 pixel
+    // stratum (texel (x, y) covers pixels 3x..3x+2, 3y..3y+2; at least DivideUp(width, 3) x
+    // DivideUp(height, 3) texels, larger textures are fine). .x |diffuse luminance difference|
+    // between this and the previous frame for the same surface and light sample, .y the larger of
+    // the two diffuse luminances, .z / .w the same for specular. All 0 where a stratum has no
+    // gradient (no pixel with valid history). Non-finite or negative values count as 0.
+    IN_GRADIENTS,
+
     // [R8+ for SIGMA_SHADOW, RGBA8+ for SIGMA_SHADOW_TRANSLUCENCY] Denoised shadow; decode with
     // SIGMA_BackEnd_UnpackShadow. TILED_SHADOW writes the denoised visibility in [0, 1] to every
     // channel (read .x); sky pixels are not written.
@@ -180,6 +195,12 @@ enum class ResourceType : uint32_t
     // (diffuse) or specular occlusion. Sky pixels are not written.
     OUT_DIFF_HITDIST,
     OUT_SPEC_HITDIST,
+
+    // [R8+] CONFIDENCE outputs: .x history confidence in [0, 1] (1 = lighting unchanged, 0 =
+    // lighting changed, history invalid), in the format IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE
+    // expect. Sky pixels are not written.
+    OUT_DIFF_CONFIDENCE,
+    OUT_SPEC_CONFIDENCE,
 
     // Pool entries: ResourceDesc::indexInPool indexes DenoiserDesc::transientPool / permanentPool /
     // buffers.

@@ -263,4 +263,44 @@ constexpr uint32_t REBLUR_MAX_HISTORY_FIX_FRAME_NUM = 3;
 constexpr uint32_t REBLUR_MAX_REFERENCE_FRAME_NUM = 255;
 constexpr float REBLUR_MAX_BLUR_RADIUS = 64.0f;
 
+// CONFIDENCE (document 003). Per pixel, with D and L the a-trous-filtered gradient texels
+// (IN_GRADIENTS .x / .y for diffuse, .z / .w for specular; differences and luminances filtered
+// independently, then interpolated to the pixel):
+//     g = D / max(L, 1e-6)                                      normalized gradient, [0, 1] for the lab's
+//     c = clamp(1 - (g - gradientThreshold) * gradientSensitivity, 0, 1)
+//     confidence = mix(c, history, c < history ? fallHistoryWeight : riseHistoryWeight)
+// where 'history' is last frame's confidence reprojected with IN_MV (c alone after a restart or
+// where the history falls off screen). One frame moves the confidence by at most
+// (1 - historyWeight) * |c - history|. Ranges in brackets; INVALID_ARGUMENT outside.
+struct ConfidenceSettings
+{
+    // Normalized gradients up to this value are noise: confidence stays 1, [0, 1).
+    float gradientThreshold = 0.0f;
+
+    // Slope of the confidence above the threshold: confidence reaches 0 at a normalized gradient of
+    // gradientThreshold + 1 / gradientSensitivity, [1, 1000].
+    float gradientSensitivity = 4.0f;
+
+    // Weight of last frame's confidence where the new one is lower (history being invalidated),
+    // [0, 1). 0: invalidation on the frame of the change.
+    float fallHistoryWeight = 0.25f;
+
+    // Weight of last frame's confidence where the new one is higher (history recovering), [0, 1).
+    float riseHistoryWeight = 0.5f;
+
+    // A-trous passes over the gradients (3x3 kernel, steps 1, 2, 4, ...), [1, CONFIDENCE_MAX_ATROUS_PASS_NUM].
+    // 4 covers 31 x 31 gradient texels (93 x 93 pixels).
+    uint32_t atrousPassNum = 4;
+
+    // Edge stopping of the a-trous passes (at the centre pixel of each stratum): a tap whose viewZ
+    // differs from the centre's by this fraction of it or more has weight 0, [0, 1]; 0 turns depth
+    // stopping off.
+    float depthThreshold = 0.1f;
+
+    // Normal weight max(n . n', 0)^normalPower, [0, 128]; 0 turns normal stopping off.
+    float normalPower = 4.0f;
+};
+
+constexpr uint32_t CONFIDENCE_MAX_ATROUS_PASS_NUM = 5;
+
 } // namespace nrd

@@ -203,6 +203,9 @@ Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
         case Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION:
             method.impl = CreateReblur(builder, method.desc.method);
             break;
+        case Method::CONFIDENCE:
+            method.impl = CreateConfidence(builder, method.desc.method);
+            break;
         case Method::MAX_NUM:
             break;
         }
@@ -251,6 +254,8 @@ static bool IsCompatible(DescriptorType descriptorType, ResourceType type)
     case ResourceType::OUT_SPEC_RADIANCE_HITDIST:
     case ResourceType::OUT_DIFF_HITDIST:
     case ResourceType::OUT_SPEC_HITDIST:
+    case ResourceType::OUT_DIFF_CONFIDENCE:
+    case ResourceType::OUT_SPEC_CONFIDENCE:
         return descriptorType == DescriptorType::STORAGE_TEXTURE || descriptorType == DescriptorType::TEXTURE;
     case ResourceType::MAX_NUM:
         return false;

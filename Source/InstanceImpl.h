@@ -175,6 +175,7 @@ enum class SettingsKind : uint32_t
     REFERENCE,
     TILED_SHADOW,
     REBLUR,
+    CONFIDENCE,
 };
 
 class MethodBase
@@ -227,6 +228,7 @@ std::unique_ptr<MethodBase> CreateSigma(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateTiledShadow(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateReference(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateReblur(MethodBuilder& builder, Method method);
+std::unique_ptr<MethodBase> CreateConfidence(MethodBuilder& builder, Method method);
 
 class InstanceImpl
 {

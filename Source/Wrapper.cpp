@@ -12,7 +12,8 @@ static_assert(NRD_VERSION_MAJOR == 0 && NRD_VERSION_MINOR == 1, "Wrapper.cpp doe
 static const Method kSupportedMethods[] = {Method::SIGMA_SHADOW, Method::SIGMA_SHADOW_TRANSLUCENCY, Method::REFERENCE,
                                            Method::TILED_SHADOW, Method::REBLUR_DIFFUSE, Method::REBLUR_SPECULAR,
                                            Method::REBLUR_DIFFUSE_SPECULAR, Method::REBLUR_DIFFUSE_OCCLUSION,
-                                           Method::REBLUR_SPECULAR_OCCLUSION, Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION};
+                                           Method::REBLUR_SPECULAR_OCCLUSION, Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION,
+                                           Method::CONFIDENCE};
 static_assert(sizeof(kSupportedMethods) / sizeof(kSupportedMethods[0]) == size_t(Method::MAX_NUM),
               "every method must be listed");
 
@@ -21,14 +22,14 @@ static_assert(sizeof(kResultNames) / sizeof(kResultNames[0]) == size_t(Result::M
 
 static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLUCENCY", "REFERENCE", "TILED_SHADOW",
     "REBLUR_DIFFUSE", "REBLUR_SPECULAR", "REBLUR_DIFFUSE_SPECULAR", "REBLUR_DIFFUSE_OCCLUSION", "REBLUR_SPECULAR_OCCLUSION",
-    "REBLUR_DIFFUSE_SPECULAR_OCCLUSION"};
+    "REBLUR_DIFFUSE_SPECULAR_OCCLUSION", "CONFIDENCE"};
 static_assert(sizeof(kMethodNames) / sizeof(kMethodNames[0]) == size_t(Method::MAX_NUM), "name table");
 
 static const char* const kResourceTypeNames[] = {"IN_MV", "IN_NORMAL_ROUGHNESS", "IN_VIEWZ", "IN_SHADOWDATA",
     "IN_SHADOW_TRANSLUCENCY", "IN_RADIANCE", "IN_SHADOW_VISIBILITY", "IN_SHADOW_BITMASK", "IN_DIFF_RADIANCE_HITDIST",
-    "IN_SPEC_RADIANCE_HITDIST", "IN_DIFF_HITDIST", "IN_SPEC_HITDIST", "IN_DIFF_CONFIDENCE", "IN_SPEC_CONFIDENCE",
+    "IN_SPEC_RADIANCE_HITDIST", "IN_DIFF_HITDIST", "IN_SPEC_HITDIST", "IN_DIFF_CONFIDENCE", "IN_SPEC_CONFIDENCE", "IN_GRADIENTS",
     "OUT_SHADOW_TRANSLUCENCY", "OUT_RADIANCE", "OUT_DIFF_RADIANCE_HITDIST", "OUT_SPEC_RADIANCE_HITDIST",
-    "OUT_DIFF_HITDIST", "OUT_SPEC_HITDIST", "TRANSIENT_POOL", "PERMANENT_POOL", "BUFFER_POOL"};
+    "OUT_DIFF_HITDIST", "OUT_SPEC_HITDIST", "OUT_DIFF_CONFIDENCE", "OUT_SPEC_CONFIDENCE", "TRANSIENT_POOL", "PERMANENT_POOL", "BUFFER_POOL"};
 static_assert(sizeof(kResourceTypeNames) / sizeof(kResourceTypeNames[0]) == size_t(ResourceType::MAX_NUM), "name table");
 
 static const char* const kFormatNames[] = {"R8_UNORM", "RG8_UNORM", "RGBA8_UNORM", "R16_SFLOAT", "RG16_SFLOAT",
@@ -163,6 +164,11 @@ Result ValidateHitDistanceParameters(const HitDistanceParameters& parameters, Lo
 Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReblurSettings& settings)
 {
     return SetSettings(denoiser, identifier, SettingsKind::REBLUR, &settings);
+}
+
+Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ConfidenceSettings& settings)
+{
+    return SetSettings(denoiser, identifier, SettingsKind::CONFIDENCE, &settings);
 }
 
 Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,

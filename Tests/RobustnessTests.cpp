@@ -124,7 +124,7 @@ bool IsOutput(ResourceType type)
 enum Target : uint32_t
 {
     SIGNAL = 1 << 0,    // IN_RADIANCE, IN_SHADOWDATA (.x and .y), IN_SHADOW_TRANSLUCENCY, IN_SHADOW_VISIBILITY,
-                        // IN_*_RADIANCE_HITDIST (radiance and hit distance), IN_*_HITDIST
+                        // IN_*_RADIANCE_HITDIST (radiance and hit distance), IN_*_HITDIST, IN_GRADIENTS
     VIEWZ = 1 << 1,     // IN_VIEWZ
     NORMAL = 1 << 2,    // IN_NORMAL_ROUGHNESS.xyz (encoded)
     ROUGHNESS = 1 << 3, // IN_NORMAL_ROUGHNESS.w
@@ -143,7 +143,8 @@ uint32_t TargetsOf(ResourceType type)
     case ResourceType::IN_DIFF_RADIANCE_HITDIST:
     case ResourceType::IN_SPEC_RADIANCE_HITDIST:
     case ResourceType::IN_DIFF_HITDIST:
-    case ResourceType::IN_SPEC_HITDIST: return SIGNAL;
+    case ResourceType::IN_SPEC_HITDIST:
+    case ResourceType::IN_GRADIENTS: return SIGNAL;
     case ResourceType::IN_DIFF_CONFIDENCE:
     case ResourceType::IN_SPEC_CONFIDENCE: return CONFIDENCE;
     case ResourceType::IN_VIEWZ: return VIEWZ;
@@ -361,6 +362,32 @@ MethodTraits TraitsOf(Method method)
             SettingsCase("colour compression and anti-firefly max",
                          Edited<S>([](S& s) { s.colorCompression = 16.0f; s.antiFireflySigma = 64.0f; }),
                          {Edited<S>([](S& s) { s.colorCompression = 16.5f; })}),
+        };
+        break;
+    }
+    case Method::CONFIDENCE:
+    {
+        typedef ConfidenceSettings S;
+        // After bad gradients the confidence rises back by riseHistoryWeight per frame.
+        t.recoveryFrames = 16;
+        t.applyDefaults = Apply(S{});
+        t.settingsCases = {
+            SettingsCase("gradientThreshold max", Edited<S>([](S& s) { s.gradientThreshold = 0.999f; }),
+                         {Edited<S>([](S& s) { s.gradientThreshold = 1.0f; }),
+                          Edited<S>([](S& s) { s.gradientThreshold = -1e-6f; })}),
+            SettingsCase("gradientSensitivity max", Edited<S>([](S& s) { s.gradientSensitivity = 1000.0f; }),
+                         {Edited<S>([](S& s) { s.gradientSensitivity = 0.999f; }),
+                          Edited<S>([](S& s) { s.gradientSensitivity = kNaN; })}),
+            SettingsCase("history weights 0", Edited<S>([](S& s) { s.fallHistoryWeight = 0.0f; s.riseHistoryWeight = 0.0f; }),
+                         {Edited<S>([](S& s) { s.fallHistoryWeight = 1.0f; }),
+                          Edited<S>([](S& s) { s.riseHistoryWeight = -1e-6f; })}),
+            SettingsCase("atrousPassNum 1", Edited<S>([](S& s) { s.atrousPassNum = 1; }),
+                         {Edited<S>([](S& s) { s.atrousPassNum = 0; })}),
+            SettingsCase("atrousPassNum max, edge stopping off",
+                         Edited<S>([](S& s) { s.atrousPassNum = CONFIDENCE_MAX_ATROUS_PASS_NUM; s.depthThreshold = 0.0f; s.normalPower = 0.0f; }),
+                         {Edited<S>([](S& s) { s.atrousPassNum = CONFIDENCE_MAX_ATROUS_PASS_NUM + 1; }),
+                          Edited<S>([](S& s) { s.normalPower = 128.5f; }),
+                          Edited<S>([](S& s) { s.depthThreshold = kInf; })}),
         };
         break;
     }
@@ -845,7 +872,8 @@ public:
 
 private:
     // Mean |output - truth|: OUT_RADIANCE and OUT_*_RADIANCE_HITDIST all channels (.w: the hit
-    // distance, truth the visibility), any other output its .x (visibility, hit distance).
+    // distance, truth the visibility), OUT_*_CONFIDENCE .x against 1 (the gradients say the
+    // lighting never changes), any other output its .x (visibility, hit distance).
     static double OutputError(ResourceType type, const std::vector<float>& out, uint32_t width, uint32_t rw, uint32_t rh)
     {
         bool radiance = type == ResourceType::OUT_RADIANCE || type == ResourceType::OUT_DIFF_RADIANCE_HITDIST ||
@@ -857,7 +885,8 @@ private:
             {
                 if (IsSkyRow(y, rh))
                     continue;
-                float p = MeanVisibility(x, rw);
+                bool confidence = type == ResourceType::OUT_DIFF_CONFIDENCE || type == ResourceType::OUT_SPEC_CONFIDENCE;
+                float p = confidence ? 1.0f : MeanVisibility(x, rw);
                 const float* o = &out[(size_t(y) * width + x) * 4];
                 for (uint32_t ch = 0; ch < (radiance ? 4u : 1u); ch++)
                 {
@@ -926,6 +955,11 @@ private:
                 case ResourceType::IN_SPEC_HITDIST: p[0] = vis; break;
                 case ResourceType::IN_DIFF_CONFIDENCE:
                 case ResourceType::IN_SPEC_CONFIDENCE: p[0] = 1.0f; break;
+                case ResourceType::IN_GRADIENTS:
+                    // Unchanged lighting (difference 0) on a noisy luminance: confidence 1.
+                    p[0] = p[2] = 0.0f;
+                    p[1] = p[3] = vis + 0.05f;
+                    break;
                 default: break;
                 }
                 if (f.bad && c.edit && (TargetsOf(type) & c.targets) && x < rw && y < rh &&

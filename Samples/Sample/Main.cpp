@@ -4,7 +4,9 @@
 // nrd-sample --scene NAME|FILE.json --method METHOD|NONE [--frames N] [--size WxH] [--truth-spp K]
 //            [--seed S] [--warmup W] [--device I] [--settings FILE.json] [--out DIR] [--json FILE]
 //            [--signal shadow|diffuse|specular|diffuse_occlusion|specular_occlusion] [--validation]
-//            [--cache DIR|none] [--bounds] [--quiet]
+//            [--cache DIR|none] [--bounds] [--confidence] [--quiet]
+// --confidence: CONFIDENCE runs first on the lab's temporal gradients and feeds the method's
+// IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE (REBLUR_*; settings under "confidence").
 #include "ImageIO.h"
 #include "MethodRunner.h"
 
@@ -25,7 +27,7 @@ void PrintUsage()
     std::fprintf(stderr,
                  "usage: nrd-sample --scene NAME|FILE.json --method METHOD|NONE [--frames N] [--size WxH]\n"
                  "                  [--truth-spp K] [--seed S] [--warmup W] [--device I] [--settings FILE.json]\n"
-                 "                  [--out DIR] [--json FILE] [--validation] [--cache DIR|none] [--bounds] [--quiet]\n"
+                 "                  [--out DIR] [--json FILE] [--validation] [--cache DIR|none] [--bounds] [--confidence] [--quiet]\n"
                  "                  [--signal shadow|diffuse|specular|diffuse_occlusion|specular_occlusion]\n");
 }
 
@@ -71,6 +73,8 @@ int main(int argc, char** argv)
             quiet = true;
         else if (a == "--bounds")
             o.bounds = true;
+        else if (a == "--confidence")
+            o.confidence = true;
         else if (!value(v))
             return 2;
         else if (a == "--scene")

@@ -21,6 +21,7 @@ const AdapterFamily kFamilies[] = {
     {CreateReferenceAdapter, kReferenceSettingsKey},
     {CreateTiledShadowAdapter, kTiledShadowSettingsKey},
     {CreateReblurAdapter, kReblurSettingsKey},
+    {CreateConfidenceAdapter, kConfidenceSettingsKey},
 };
 
 } // namespace

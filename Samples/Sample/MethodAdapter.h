@@ -34,6 +34,7 @@ struct AdapterTexture
     nrd::ResourceType type = nrd::ResourceType::MAX_NUM;
     nrd::rhi::Format format = nrd::rhi::Format::RGBA16_SFLOAT;
     std::vector<float> pixels; // width * height * GetFormatInfo(format).channelNum floats.
+    uint32_t width = 0, height = 0; // 0: the render size.
 };
 
 class MethodAdapter
@@ -61,6 +62,10 @@ public:
 
     // Sets the method settings once, after the denoiser is created.
     virtual nrd::Result ApplySettings(nrd::Integration& /*integration*/, nrd::Identifier /*id*/) { return nrd::Result::SUCCESS; }
+
+    // Makes the method read IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE (before ApplySettings); false
+    // if it cannot (RunOptions::confidence).
+    virtual bool EnableConfidenceInputs() { return false; }
 
     // Updates per-frame method settings (e.g. the light direction) before a frame is denoised.
     virtual void ApplyFrameSettings(nrd::Integration& /*integration*/, nrd::Identifier /*id*/, const FrameData& /*frame*/) {}

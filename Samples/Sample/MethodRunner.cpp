@@ -28,6 +28,7 @@ namespace
 {
 
 constexpr nrd::Identifier kId = 0;
+constexpr nrd::Identifier kConfidenceId = 1; // RunOptions::confidence: CONFIDENCE in front of kId.
 
 // The method's adapter and the signal it is run on.
 struct MethodIo
@@ -36,6 +37,7 @@ struct MethodIo
     nrd::Method method = nrd::Method::MAX_NUM;
     std::string signal; // Report name: shadow, diffuse, specular.
     std::unique_ptr<MethodAdapter> adapter;
+    std::unique_ptr<MethodAdapter> confidence; // RunOptions::confidence: the CONFIDENCE adapter.
 };
 
 bool ResolveMethod(const RunOptions& o, MethodIo& io, std::string& error)
@@ -68,6 +70,20 @@ bool ResolveMethod(const RunOptions& o, MethodIo& io, std::string& error)
             error += (i ? ", " : "") + signals[i];
         error += ")";
         return false;
+    }
+    if (o.confidence)
+    {
+        if (io.none || io.method == nrd::Method::CONFIDENCE || !io.adapter->EnableConfidenceInputs())
+        {
+            error = "--confidence: " + o.method + " does not read IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE";
+            return false;
+        }
+        if (o.timing.frames)
+        {
+            error = "--confidence: timing runs the consumer alone (time CONFIDENCE on its own)";
+            return false;
+        }
+        io.confidence = CreateMethodAdapter("CONFIDENCE");
     }
     return true;
 }
@@ -407,6 +423,13 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     bool motion3d = true, motionNone = false;
     if (!ParseSettings(o.settingsJson, common, *io.adapter, motion3d, motionNone, error))
         return false;
+    if (io.confidence)
+    {
+        nrd::CommonSettings ignoredCommon;
+        bool ignored3d = motion3d, ignoredNone = motionNone;
+        if (!ParseSettings(o.settingsJson, ignoredCommon, *io.confidence, ignored3d, ignoredNone, error))
+            return false;
+    }
 
     nrd::lab::VulkanContextDesc vkDesc;
     vkDesc.enableValidation = o.validation;
@@ -430,6 +453,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
 
     report.scene = scene.name.empty() ? o.scene : scene.name;
     report.method = o.method;
+    report.confidence = o.confidence;
     report.signal = io.signal;
     report.device = vk.GetProperties().deviceName;
     report.driver = DriverString(vk);
@@ -445,10 +469,10 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     textures->vk = &vk;
     if (!io.none)
     {
-        nrd::MethodDesc method = {kId, io.method};
+        nrd::MethodDesc methods[2] = {{kId, io.method}, {kConfidenceId, nrd::Method::CONFIDENCE}};
         nrd::DenoiserCreationDesc desc;
-        desc.methods = &method;
-        desc.methodsNum = 1;
+        desc.methods = methods;
+        desc.methodsNum = io.confidence ? 2 : 1;
         desc.renderWidth = uint16_t(o.width);
         desc.renderHeight = uint16_t(o.height);
         nrd::IntegrationCreationDesc integrationDesc = vk.GetIntegrationCreationDesc();
@@ -461,6 +485,8 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             return false;
         }
         nrd::Result r = io.adapter->ApplySettings(integration, kId);
+        if (r == nrd::Result::SUCCESS && io.confidence)
+            r = io.confidence->ApplySettings(integration, kConfidenceId);
         if (r != nrd::Result::SUCCESS)
         {
             error = std::string("method settings rejected: ") + nrd::GetResultString(r);
@@ -493,7 +519,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         params.frameIndex = f;
         params.truthSpp = report.truthSpp;
         params.seed = o.seed;
-        params.signals = io.adapter->GetLabSignals(io.signal);
+        params.signals = io.adapter->GetLabSignals(io.signal) | (io.confidence ? SignalMask(SIGNAL_GRADIENTS) : 0u);
         FrameData frame;
         if (!lab.Render(scene, params, frame, error))
             return false;
@@ -533,19 +559,22 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
                 {nrd::ResourceType::IN_MV, F::RGBA16_SFLOAT, ExpandChannels(motion3d ? frame.motion3d : frame.motion2d, 4)},
             };
             io.adapter->GetInputs(frame, io.signal, noisy, inputs);
+            if (io.confidence)
+                io.confidence->GetInputs(frame, io.signal, noisy, inputs);
 
             nrd::UserPool pool;
             for (const AdapterTexture& input : inputs)
             {
+                const uint32_t w = input.width ? input.width : o.width, h = input.height ? input.height : o.height;
                 auto& tex = textures->map[input.type];
                 if (!tex.texture &&
-                    vk.CreateTexture(input.format, o.width, o.height, nrd::GetResourceTypeString(input.type), tex) != VK_SUCCESS)
+                    vk.CreateTexture(input.format, w, h, nrd::GetResourceTypeString(input.type), tex) != VK_SUCCESS)
                 {
                     error = "texture creation failed";
                     return false;
                 }
                 const size_t channels = nrd::rhi::GetFormatInfo(input.format).channelNum;
-                if (input.pixels.size() != size_t(o.width) * o.height * channels ||
+                if (input.pixels.size() != size_t(w) * h * channels ||
                     vk.UploadTexture(tex, input.pixels.data()) != VK_SUCCESS)
                 {
                     error = std::string("upload failed: ") + nrd::GetResourceTypeString(input.type);
@@ -587,9 +616,39 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
                 pool[otherType] = otherTex.AsUserTexture();
             }
 
+            // CONFIDENCE's outputs, bound as the consumer's confidence inputs (1 where never written: sky).
+            const nrd::ResourceType confidenceTypes[2][2] = {
+                {nrd::ResourceType::OUT_DIFF_CONFIDENCE, nrd::ResourceType::IN_DIFF_CONFIDENCE},
+                {nrd::ResourceType::OUT_SPEC_CONFIDENCE, nrd::ResourceType::IN_SPEC_CONFIDENCE}};
+            if (io.confidence)
+                for (const auto& types : confidenceTypes)
+                {
+                    auto& confTex = textures->map[types[0]];
+                    if (!confTex.texture)
+                    {
+                        if (vk.CreateTexture(F::R16_SFLOAT, o.width, o.height, nrd::GetResourceTypeString(types[0]), confTex) != VK_SUCCESS)
+                        {
+                            error = "texture creation failed";
+                            return false;
+                        }
+                        vk.UploadTexture(confTex, std::vector<float>(size_t(o.width) * o.height, 1.0f).data(), nrd::rhi::Layout::GENERAL);
+                    }
+                    pool[types[0]] = confTex.AsUserTexture();
+                }
+
             VkCommandBuffer cmd;
-            if (vk.BeginCommands(cmd) != VK_SUCCESS || integration.Denoise(cmd, &kId, 1, pool) != VK_SUCCESS ||
-                vk.SubmitAndWait(cmd) != VK_SUCCESS)
+            bool recorded = vk.BeginCommands(cmd) == VK_SUCCESS;
+            if (recorded && io.confidence)
+            {
+                recorded = integration.Denoise(cmd, &kConfidenceId, 1, pool) == VK_SUCCESS;
+                for (const auto& types : confidenceTypes)
+                    pool[types[1]] = pool[types[0]];
+            }
+            recorded = recorded && integration.Denoise(cmd, &kId, 1, pool) == VK_SUCCESS;
+            if (io.confidence)
+                for (const auto& types : confidenceTypes)
+                    pool[types[0]].layout = pool[types[1]].layout; // The consumer read them last.
+            if (!recorded || vk.SubmitAndWait(cmd) != VK_SUCCESS)
             {
                 error = "denoising failed on the device";
                 return false;
@@ -609,6 +668,13 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
 
             double total = 0.0;
             std::vector<nrd::DispatchTiming> timings = integration.GetLastTimings(&total);
+            if (io.confidence)
+            {
+                double confidenceTotal = 0.0;
+                std::vector<nrd::DispatchTiming> confidenceTimings = integration.GetTimings(1, &confidenceTotal);
+                timings.insert(timings.begin(), confidenceTimings.begin(), confidenceTimings.end());
+                total += confidenceTotal;
+            }
             report.dispatchesPerFrame = uint32_t(timings.size());
             FrameMetrics m;
             m.gpuMs = total;
@@ -842,6 +908,7 @@ std::string ReportToJson(const RunReport& r)
     nlohmann::json j;
     j["scene"] = r.scene;
     j["method"] = r.method;
+    j["confidence"] = r.confidence;
     j["width"] = r.width;
     j["height"] = r.height;
     j["frames"] = r.frames;

@@ -57,6 +57,10 @@ struct RunOptions
     std::string cacheDirectory;     // Scene-lab frame cache; empty: the default one; "none": off.
     bool keepImages = true;         // Keep the last frame's noisy / denoised / truth images in the report.
     bool bounds = false;            // Also measure the temporal-reuse bounds of the scene (ReuseBounds.h).
+    // CONFIDENCE runs in front of the method on the lab's temporal gradients; its outputs are the
+    // method's IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE (the adapter turns the method's confidence
+    // inputs on; settings under "confidence"). Methods without confidence inputs fail.
+    bool confidence = false;
     std::function<void(uint32_t frame, uint32_t frames)> progress; // (Optional)
     TimingOptions timing;
 };
@@ -104,6 +108,7 @@ struct TimingReport
 struct RunReport
 {
     std::string scene, method, signal, device;
+    bool confidence = false;       // RunOptions::confidence (memory, GPU time and passes include it).
     std::string driver;            // Vulkan driver name and version.
     uint32_t width = 0, height = 0, frames = 0, warmup = 0, truthSpp = 0;
     double gpuMsPerFrame = 0;      // Mean over the frames after the warm-up (0 for NONE).

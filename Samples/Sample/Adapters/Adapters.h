@@ -30,6 +30,10 @@ extern const char* const kTiledShadowSettingsKey;
 std::unique_ptr<MethodAdapter> CreateReblurAdapter(const std::string& method);
 extern const char* const kReblurSettingsKey;
 
+// CONFIDENCE (also chained in front of a consumer, RunOptions::confidence).
+std::unique_ptr<MethodAdapter> CreateConfidenceAdapter(const std::string& method);
+extern const char* const kConfidenceSettingsKey;
+
 // Shared by the adapters: the lab's noisy input and truth of the shadow, diffuse and specular
 // signals in their compared channels (shadow: 1, diffuse / specular: rgb radiance,
 // diffuse_occlusion / specular_occlusion: 1, the normalized hit distance).

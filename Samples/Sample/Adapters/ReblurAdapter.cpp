@@ -59,9 +59,17 @@ public:
         ReadSetting(s, "colorCompression", r.colorCompression);
         ReadSetting(s, "antiFireflySigma", r.antiFireflySigma);
         ReadSetting(s, "forceReferenceAccumulation", r.forceReferenceAccumulation);
+        ReadSetting(s, "isConfidenceInput", r.isConfidenceInput);
         uint32_t checkerboard = uint32_t(r.checkerboardMode);
         ReadSetting(s, "checkerboardMode", checkerboard);
         r.checkerboardMode = nrd::CheckerboardMode(checkerboard);
+        return true;
+    }
+    bool EnableConfidenceInputs() override
+    {
+        if (m_Occlusion)
+            return false;
+        m_Settings.isConfidenceInput = true;
         return true;
     }
     nrd::Result ApplySettings(nrd::Integration& integration, nrd::Identifier id) override

@@ -1,0 +1,21 @@
+// CONFIDENCE: filtered gradients -> confidence at full resolution, blended with last frame's
+// confidence (short temporal filter); writes the outputs and the history.
+NRD_PASS_BEGIN(Confidence_Temporal, 16, 16)
+NRD_CONSTANTS_BEGIN
+    NRD_COMMON_CONSTANTS
+    NRD_CONSTANT(uvec2, gGradientSize)
+    NRD_CONSTANT(float, gGradientThreshold)
+    NRD_CONSTANT(float, gGradientSensitivity)
+    NRD_CONSTANT(float, gFallHistoryWeight)
+    NRD_CONSTANT(float, gRiseHistoryWeight)
+    NRD_CONSTANT(uint, gPad0)
+    NRD_CONSTANT(uint, gPad1)
+NRD_CONSTANTS_END
+NRD_INPUT(0, gIn_Gradients)
+NRD_INPUT(1, gIn_ViewZ)
+NRD_INPUT(2, gIn_Mv)
+NRD_INPUT(3, gIn_History)
+NRD_INOUT(4, gOut_History, rg16f)
+NRD_OUTPUT(5, gOut_DiffConfidence)
+NRD_OUTPUT(6, gOut_SpecConfidence)
+NRD_PASS_END
