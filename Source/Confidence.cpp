@@ -76,11 +76,15 @@ public:
                                   builder.AddPermanentTexture(Format::RG16_SFLOAT)};
         const ResourceRef viewZ = App(R::IN_VIEWZ), normal = App(R::IN_NORMAL_ROUGHNESS);
 
-        m_FilterFirst = builder.AddDispatch<passes::Confidence_Filter>(
-            "CONFIDENCE - Filter gradients", {App(R::IN_GRADIENTS), viewZ, normal, filtered[0]});
-        for (int i = 0; i < 2; i++)
-            m_FilterNext[i] = builder.AddDispatch<passes::Confidence_Filter>(
-                "CONFIDENCE - Filter gradients", {filtered[i], viewZ, normal, filtered[1 - i]});
+        // One template per pass (a template runs at most once per frame): pass i reads what pass
+        // i - 1 wrote, filtered[(i - 1) % 2] -> filtered[i % 2], the first reads IN_GRADIENTS.
+        static const char* const kFilterNames[CONFIDENCE_MAX_ATROUS_PASS_NUM] = {
+            "CONFIDENCE - Filter gradients (step 1)", "CONFIDENCE - Filter gradients (step 2)",
+            "CONFIDENCE - Filter gradients (step 4)", "CONFIDENCE - Filter gradients (step 8)",
+            "CONFIDENCE - Filter gradients (step 16)"};
+        for (uint32_t i = 0; i < CONFIDENCE_MAX_ATROUS_PASS_NUM; i++)
+            m_Filter[i] = builder.AddDispatch<passes::Confidence_Filter>(
+                kFilterNames[i], {i == 0 ? App(R::IN_GRADIENTS) : filtered[(i - 1) & 1u], viewZ, normal, filtered[i & 1u]});
         for (int last = 0; last < 2; last++)
             for (int parity = 0; parity < 2; parity++)
                 m_Temporal[last][parity] = builder.AddDispatch<passes::Confidence_Temporal>(
@@ -114,11 +118,10 @@ public:
         f.gGradientSize = {gradientWidth, gradientHeight};
         f.gDepthThreshold = s.depthThreshold;
         f.gNormalPower = s.normalPower;
-        // Pass i reads what pass i - 1 wrote: filtered[(i - 1) % 2] -> filtered[i % 2].
         for (uint32_t i = 0; i < s.atrousPassNum; i++)
         {
             f.gStep = int32_t(1u << i);
-            context.Dispatch(i == 0 ? m_FilterFirst : m_FilterNext[(i - 1) & 1u], f, gradientWidth, gradientHeight);
+            context.Dispatch(m_Filter[i], f, gradientWidth, gradientHeight);
         }
 
         passes::Confidence_Temporal::Constants t = {};
@@ -135,8 +138,7 @@ public:
 
 private:
     ConfidenceSettings m_Settings = {};
-    uint32_t m_FilterFirst = 0;
-    uint32_t m_FilterNext[2] = {};
+    uint32_t m_Filter[CONFIDENCE_MAX_ATROUS_PASS_NUM] = {};
     uint32_t m_Temporal[2][2] = {}; // [pool texture of the last filter pass][history parity]
     uint32_t m_Parity = 0;
 };
