@@ -223,12 +223,35 @@ nrd::TiledShadowSettings DecodeTiledShadow(FuzzedDataProvider& in)
     return s;
 }
 
+nrd::ConfidenceSettings DecodeConfidence(FuzzedDataProvider& in)
+{
+    if (in.ConsumeIntegralInRange<uint8_t>(0, 7) == 0)
+        return DecodeRaw<nrd::ConfidenceSettings>(in);
+    nrd::ConfidenceSettings s;
+    uint32_t edits = in.ConsumeIntegralInRange<uint32_t>(0, 3);
+    for (uint32_t e = 0; e < edits; e++)
+    {
+        switch (in.ConsumeIntegralInRange<uint8_t>(0, 6))
+        {
+        case 0: s.gradientThreshold = InterestingFloat(in); break;
+        case 1: s.gradientSensitivity = InterestingFloat(in); break;
+        case 2: s.fallHistoryWeight = InterestingFloat(in); break;
+        case 3: s.riseHistoryWeight = InterestingFloat(in); break;
+        case 4: s.atrousPassNum = InterestingUint(in); break;
+        case 5: s.depthThreshold = InterestingFloat(in); break;
+        default: s.normalPower = InterestingFloat(in); break;
+        }
+    }
+    return s;
+}
+
 nrd::Result CallSetMethodSettings(FuzzedDataProvider& in, nrd::Denoiser& denoiser, nrd::Identifier identifier)
 {
-    switch (in.ConsumeIntegralInRange<uint8_t>(0, 2))
+    switch (in.ConsumeIntegralInRange<uint8_t>(0, 3))
     {
     case 0: return nrd::SetMethodSettings(denoiser, identifier, DecodeSigma(in));
     case 1: return nrd::SetMethodSettings(denoiser, identifier, DecodeReference(in));
+    case 2: return nrd::SetMethodSettings(denoiser, identifier, DecodeConfidence(in));
     default: return nrd::SetMethodSettings(denoiser, identifier, DecodeTiledShadow(in));
     }
 }
