@@ -55,7 +55,8 @@ NRD_API const DenoiserDesc& GetDenoiserDesc(const Denoiser& denoiser);
 NRD_API Result SetCommonSettings(Denoiser& denoiser, const CommonSettings& settings);
 
 // Per-method settings. The type must match the method family of 'identifier' (SigmaSettings for
-// SIGMA_*, ReferenceSettings for REFERENCE, TiledShadowSettings for TILED_SHADOW, ReblurSettings for REBLUR_*, ConfidenceSettings for CONFIDENCE); otherwise
+// SIGMA_*, ReferenceSettings for REFERENCE, TiledShadowSettings for TILED_SHADOW, ReblurSettings for REBLUR_*,
+// ConfidenceSettings for CONFIDENCE, ReflectionSettings for REFLECTION); otherwise
 // INVALID_ARGUMENT. Out-of-range values return INVALID_ARGUMENT and keep the previous settings.
 // Unknown identifier: INVALID_ARGUMENT.
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const SigmaSettings& settings);
@@ -63,6 +64,7 @@ NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, cons
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const TiledShadowSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReblurSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ConfidenceSettings& settings);
+NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReflectionSettings& settings);
 
 // Checks hit distance parameters against their documented ranges (finite, A > 0, B >= 0, C >= 1,
 // D <= 0); the settings of every method that takes HitDistanceParameters call it. Returns SUCCESS or
@@ -78,6 +80,13 @@ NRD_API Result ValidateHitDistanceParameters(const HitDistanceParameters& parame
 // Returns INVALID_ARGUMENT for an unknown or repeated identifier or if SetCommonSettings never succeeded.
 NRD_API Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,
                                     const DispatchDesc*& outDispatches, uint32_t& outDispatchesNum);
+
+// As above, limited to one part of the frame (DispatchStage): CLASSIFICATION before the
+// application's ray pass, then DENOISING after it, for the same SetCommonSettings call. Methods
+// without a classification part return nothing for CLASSIFICATION. INVALID_ARGUMENT for an unknown
+// stage, as above otherwise.
+NRD_API Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,
+                                    DispatchStage stage, const DispatchDesc*& outDispatches, uint32_t& outDispatchesNum);
 
 // Destroys a denoiser created by CreateDenoiser. Null is allowed and ignored.
 NRD_API void DestroyDenoiser(Denoiser* denoiser);

@@ -69,6 +69,28 @@ enum class Method : uint32_t
     // RELAX). Edge-aware a-trous filtering of the gradients, normalization, conversion to [0, 1]
     // and a short temporal filter. Settings: ConfidenceSettings. Shaders/Confidence/README.md.
     CONFIDENCE,
+    // Glossy reflections traced at a variable rate, FidelityFX-style (documents 000 and 002): IN_MV,
+    // IN_NORMAL_ROUGHNESS, IN_VIEWZ, IN_SPEC_RADIANCE_HITDIST -> OUT_SPEC_RADIANCE_HITDIST. Runs in
+    // two stages around the application's ray pass (DispatchStage): CLASSIFICATION decides per
+    // pixel whether it traces a ray (1, 2 or 4 per 2x2 quad, more where the temporal variance is
+    // high, always on mirrors) and writes the ray list, the ray counter and the indirect arguments
+    // (BufferDesc::content); the application traces exactly the listed rays, writing
+    // IN_SPEC_RADIANCE_HITDIST at each ray's pixel and at the quad neighbours its entry names;
+    // DENOISING runs reprojection, spatial, temporal and blur passes on the 8x8 tiles that need
+    // them only. Settings: ReflectionSettings. Shaders/Reflection/README.md lists passes and memory.
+    REFLECTION,
+
+    MAX_NUM
+};
+
+// Part of a frame GetComputeDispatches produces. A method whose application traces rays between
+// its dispatches (REFLECTION) has a CLASSIFICATION part (before the ray pass) and a DENOISING part
+// (after it); every other method runs in DENOISING only. ALL is both, in order.
+enum class DispatchStage : uint8_t
+{
+    ALL,
+    CLASSIFICATION,
+    DENOISING,
 
     MAX_NUM
 };
@@ -307,6 +329,26 @@ struct TextureDesc
     uint16_t downsampleY = 1;
 };
 
+// What a pool buffer holds, for the application's ray pass (REFLECTION); PRIVATE buffers are the
+// method's own business.
+//   RAY_LIST: one uint32 per ray, in [0, ray count): bits 0..13 pixel x, bits 14..27 pixel y,
+//     bit 28: also write the result to the horizontal quad neighbour (x ^ 1, y), bit 29: to the
+//     vertical one (x, y ^ 1), bit 30: to the diagonal one (x ^ 1, y ^ 1). Bit 31 is 0.
+//   RAY_COUNTERS (also indirect arguments): uint32 words
+//     [0..2] indirect dispatch of the ray pass: (DivideUp(ray count, 64), 1, 1), 64 rays per group;
+//     [3]    ray count;
+//     [4..6] indirect dispatch of the denoising passes (tile count, 1, 1), used by the method;
+//     [7]    count of 8x8 tiles that need the denoiser; [8..] private.
+// Written by the CLASSIFICATION stage of the frame, valid until the next one.
+enum class BufferContent : uint8_t
+{
+    PRIVATE,
+    RAY_LIST,
+    RAY_COUNTERS,
+
+    MAX_NUM
+};
+
 // Pool buffer: 'size' bytes, usage storage (+ indirect arguments if 'isIndirectArguments').
 // 'isPermanent' buffers keep their content across frames (zero them at creation); the content of
 // the others is undefined at the start of a frame: methods clear what they rely on themselves.
@@ -315,6 +357,8 @@ struct BufferDesc
     uint64_t size = 0;
     bool isIndirectArguments = false;
     bool isPermanent = false;
+    BufferContent content = BufferContent::PRIVATE;
+    Identifier identifier = 0; // Method that owns the buffer.
 };
 
 struct DescriptorPoolDesc

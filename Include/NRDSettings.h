@@ -258,6 +258,50 @@ struct ReblurSettings
     bool forceReferenceAccumulation = false;
 };
 
+// REFLECTION (documents 000 and 002). Ranges in brackets; values outside get INVALID_ARGUMENT.
+struct ReflectionSettings
+{
+    HitDistanceParameters hitDistanceParameters = {};
+
+    // Pixels rougher than this are neither traced nor denoised (the application shades them
+    // another way) and OUT_SPEC_RADIANCE_HITDIST is not written there, [0, 1].
+    float roughnessThreshold = 1.0f;
+
+    // Pixels smoother than this are mirrors: always traced, output as traced (no denoising), [0, 1].
+    float mirrorRoughness = 0.0001f;
+
+    // Base tracing rate: rays per 2x2 quad, 1, 2 or 4; the traced pixel(s) of a quad rotate with
+    // frameIndex, and the others receive a copy of the quad's ray.
+    uint32_t raysPerQuad = 1;
+
+    // Pixels whose temporal variance (relative change of the output, written by the previous
+    // frame) exceeds temporalVarianceThreshold trace a ray of their own, (0, 1].
+    bool enableTemporalVarianceGuidedTracing = true;
+    float temporalVarianceThreshold = 0.002f;
+
+    // Longest history in frames, [1, REFLECTION_MAX_HISTORY_FRAME_NUM]; blend weight 1 / (n + 1).
+    uint32_t maxHistoryFrameNum = 32;
+
+    // Below this roughness the history follows the reflected image (hit reprojection by the hit
+    // distance), above it the surface (motion vectors), [0, 1].
+    float hitReprojectionRoughness = 0.3f;
+
+    // History clip box: neighbourhood mean +- (historyClipSigma * sigma + historyClipLeeway * mean),
+    // per channel; historyClipSigma [0.25, 16], historyClipLeeway [0, 4].
+    float historyClipSigma = 1.0f;
+    float historyClipLeeway = 0.1f;
+
+    // Spatial edge stops: normal power [0, 4096], depth sigma (relative plane distance) (0, 64].
+    float normalSigma = 512.0f;
+    float depthSigma = 4.0f;
+
+    // Passes that can be left out (for measurements): the spatial pass and the final blur.
+    bool enableSpatial = true;
+    bool enableBlur = true;
+};
+
+constexpr uint32_t REFLECTION_MAX_HISTORY_FRAME_NUM = 63;
+
 constexpr uint32_t REBLUR_MAX_HISTORY_FRAME_NUM = 63;
 constexpr uint32_t REBLUR_MAX_HISTORY_FIX_FRAME_NUM = 3;
 constexpr uint32_t REBLUR_MAX_REFERENCE_FRAME_NUM = 255;

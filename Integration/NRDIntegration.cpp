@@ -583,14 +583,14 @@ VkResult Integration::RecordDispatch(rhi::CommandBuffer& cmd, FrameSlot& slot, c
 }
 
 VkResult Integration::Denoise(VkCommandBuffer commandBuffer, const Identifier* identifiers, uint32_t identifiersNum,
-                              UserPool& userPool)
+                              UserPool& userPool, DispatchStage stage)
 {
     if (!m_Device)
         return VK_ERROR_INITIALIZATION_FAILED;
 
     const DispatchDesc* dispatches = nullptr;
     uint32_t dispatchesNum = 0;
-    if (GetComputeDispatches(*m_Denoiser, identifiers, identifiersNum, dispatches, dispatchesNum) != Result::SUCCESS)
+    if (GetComputeDispatches(*m_Denoiser, identifiers, identifiersNum, stage, dispatches, dispatchesNum) != Result::SUCCESS)
         return VK_ERROR_INITIALIZATION_FAILED;
 
     // Wrap the user textures the dispatches reference; their state is the layout the application

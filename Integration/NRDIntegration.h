@@ -131,8 +131,11 @@ public:
     // layouts. Returns VK_ERROR_INITIALIZATION_FAILED (and records nothing) if the core fails or a
     // referenced user texture is missing or in an unsupported layout; the core has then still
     // consumed this frame's settings (call SetCommonSettings again).
+    // 'stage' (Optional): with a method that traces between its stages (REFLECTION), call it with
+    // DispatchStage::CLASSIFICATION, record the ray pass (GetPoolBuffer gives the ray list and its
+    // counters), then call it again with DENOISING for the same SetCommonSettings.
     VkResult Denoise(VkCommandBuffer commandBuffer, const Identifier* identifiers, uint32_t identifiersNum,
-                     UserPool& userPool);
+                     UserPool& userPool, DispatchStage stage = DispatchStage::ALL);
 
     // Re-creates the core denoiser and the pool textures / buffers for a new render size; keeps
     // pipelines, layouts and samplers. History restarts (pools cleared again). No Denoise command
@@ -171,6 +174,16 @@ public:
     // 'type' is PERMANENT_POOL or TRANSIENT_POOL, 'index' indexes that DenoiserDesc pool. Read-only:
     // whoever copies from it records a barrier back to 'state' before the next Denoise.
     PoolImage GetPoolImage(ResourceType type, uint32_t index) const;
+
+    // Pool buffer 'index' (DenoiserDesc::buffers) for the application's ray pass, or null. Its last
+    // access in recording order is a compute shader write or an indirect-argument read of the
+    // Denoise calls recorded so far: the application records a barrier from
+    // COMPUTE_SHADER (SHADER_WRITE) before reading it, and one back to COMPUTE_SHADER before the
+    // next Denoise call if it writes it (it should not).
+    rhi::Buffer* GetPoolBuffer(uint32_t index) const
+    {
+        return index < m_BufferPool.size() ? m_BufferPool[index].buffer : nullptr;
+    }
 
     // The core description (valid until Resize / Destroy) and the rhi device (for samples).
     const DenoiserDesc& GetDenoiserDesc() const

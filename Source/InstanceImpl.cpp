@@ -205,6 +205,8 @@ Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
             break;
         case Method::CONFIDENCE:
             method.impl = CreateConfidence(builder, method.desc.method);
+        case Method::REFLECTION:
+            method.impl = CreateReflection(builder, method.desc.method);
             break;
         case Method::MAX_NUM:
             break;
@@ -233,9 +235,13 @@ ResourceRef MethodBuilder::AddTransientTexture(Format format, uint16_t downsampl
     return {ResourceType::TRANSIENT_POOL, uint16_t(transients.size() - 1)};
 }
 
+uint32_t MethodBuilder::RenderWidth() const { return m_Instance.m_Desc.renderWidth; }
+uint32_t MethodBuilder::RenderHeight() const { return m_Instance.m_Desc.renderHeight; }
+
 ResourceRef MethodBuilder::AddBuffer(const BufferDesc& desc)
 {
     m_Instance.m_Buffers.push_back(desc);
+    m_Instance.m_Buffers.back().identifier = m_Instance.m_Methods[m_MethodIndex].desc.identifier;
     return {ResourceType::BUFFER_POOL, uint16_t(m_Instance.m_Buffers.size() - 1)};
 }
 
@@ -593,6 +599,7 @@ void FrameContext::PushDispatch(uint32_t templateIndex, const void* constants, u
         method.constants.resize(method.constants.size() + (t.constantsSize - copied), 0);
     }
     method.dispatches.push_back(d);
+    method.stages.push_back(m_Stage);
 }
 
 void InstanceImpl::UpdateMethod(uint32_t methodIndex)
@@ -601,6 +608,7 @@ void InstanceImpl::UpdateMethod(uint32_t methodIndex)
     method.dispatches.clear();
     method.constants.clear();
     method.constantOffsets.clear();
+    method.stages.clear();
     FrameContext context(*this, methodIndex, m_Frame);
     method.impl->Update(context);
     for (size_t i = 0; i < method.dispatches.size(); i++)
@@ -609,11 +617,16 @@ void InstanceImpl::UpdateMethod(uint32_t methodIndex)
     method.updatedEpoch = m_Epoch;
 }
 
-Result InstanceImpl::GetComputeDispatches(const Identifier* identifiers, uint32_t identifiersNum,
+Result InstanceImpl::GetComputeDispatches(const Identifier* identifiers, uint32_t identifiersNum, DispatchStage stage,
                                           const DispatchDesc*& outDispatches, uint32_t& outDispatchesNum)
 {
     outDispatches = nullptr;
     outDispatchesNum = 0;
+    if (uint32_t(stage) >= uint32_t(DispatchStage::MAX_NUM))
+    {
+        m_Log.Error("GetComputeDispatches: unknown stage %u", uint32_t(stage));
+        return Result::INVALID_ARGUMENT;
+    }
     if (m_Epoch == 0)
     {
         m_Log.Error("GetComputeDispatches: call SetCommonSettings successfully first");
@@ -658,7 +671,10 @@ Result InstanceImpl::GetComputeDispatches(const Identifier* identifiers, uint32_
     {
         if (m_Methods[i].updatedEpoch != m_Epoch)
             UpdateMethod(i);
-        m_Output.insert(m_Output.end(), m_Methods[i].dispatches.begin(), m_Methods[i].dispatches.end());
+        const MethodData& method = m_Methods[i];
+        for (size_t d = 0; d < method.dispatches.size(); d++)
+            if (stage == DispatchStage::ALL || method.stages[d] == stage)
+                m_Output.push_back(method.dispatches[d]);
     }
     outDispatches = m_Output.data();
     outDispatchesNum = uint32_t(m_Output.size());

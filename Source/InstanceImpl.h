@@ -113,6 +113,9 @@ public:
 
     const FrameData& Frame() const { return m_Frame; }
 
+    // Dispatches added from now on belong to 'stage' (CLASSIFICATION or DENOISING, the default).
+    void SetStage(DispatchStage stage) { m_Stage = stage; }
+
     // Fills the NRD_COMMON_CONSTANTS part of a pass's constant block.
     template <class Constants>
     void FillCommonConstants(Constants& c) const
@@ -166,6 +169,7 @@ private:
     InstanceImpl& m_Instance;
     uint32_t m_MethodIndex;
     const FrameData& m_Frame;
+    DispatchStage m_Stage = DispatchStage::DENOISING;
 };
 
 // Which settings struct a SetMethodSettings call carries.
@@ -176,6 +180,7 @@ enum class SettingsKind : uint32_t
     TILED_SHADOW,
     REBLUR,
     CONFIDENCE,
+    REFLECTION,
 };
 
 class MethodBase
@@ -197,6 +202,9 @@ public:
     ResourceRef AddPermanentTexture(Format format, uint16_t downsampleX = 1, uint16_t downsampleY = 1);
     ResourceRef AddTransientTexture(Format format, uint16_t downsampleX = 1, uint16_t downsampleY = 1);
     ResourceRef AddBuffer(const BufferDesc& desc);
+    // Creation size (buffers sized per pixel or per tile).
+    uint32_t RenderWidth() const;
+    uint32_t RenderHeight() const;
 
     // Declares a dispatch of pass 'Pass' with its resources in binding order. Returns the template
     // index for FrameContext::Dispatch. A count or type mismatch with the pass declaration is a bug
@@ -229,6 +237,7 @@ std::unique_ptr<MethodBase> CreateTiledShadow(MethodBuilder& builder, Method met
 std::unique_ptr<MethodBase> CreateReference(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateReblur(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateConfidence(MethodBuilder& builder, Method method);
+std::unique_ptr<MethodBase> CreateReflection(MethodBuilder& builder, Method method);
 
 class InstanceImpl
 {
@@ -239,8 +248,8 @@ public:
     Result Create(const DenoiserCreationDesc& desc);
     Result SetCommonSettings(const CommonSettings& settings);
     Result SetMethodSettings(Identifier identifier, SettingsKind kind, const void* settings);
-    Result GetComputeDispatches(const Identifier* identifiers, uint32_t identifiersNum, const DispatchDesc*& outDispatches,
-                                uint32_t& outDispatchesNum);
+    Result GetComputeDispatches(const Identifier* identifiers, uint32_t identifiersNum, DispatchStage stage,
+                                const DispatchDesc*& outDispatches, uint32_t& outDispatchesNum);
     const DenoiserDesc& GetDesc() const { return m_Desc; }
     const Logger& Log() const { return m_Log; }
 
@@ -253,7 +262,8 @@ private:
         explicit MethodData(const AllocationCallbacks* a)
             : templates(StdAllocator<uint32_t>(a)), transients(StdAllocator<TextureDesc>(a)),
               transientRemap(StdAllocator<uint16_t>(a)), dispatches(StdAllocator<DispatchDesc>(a)),
-              constants(StdAllocator<uint8_t>(a)), constantOffsets(StdAllocator<uint32_t>(a)) {}
+              constants(StdAllocator<uint8_t>(a)), constantOffsets(StdAllocator<uint32_t>(a)),
+              stages(StdAllocator<DispatchStage>(a)) {}
 
         MethodDesc desc = {};
         std::unique_ptr<MethodBase> impl;
@@ -263,6 +273,7 @@ private:
         Vector<DispatchDesc> dispatches;     // This frame's part (pointers into below).
         Vector<uint8_t> constants;           // This frame's constant bytes.
         Vector<uint32_t> constantOffsets;    // Per dispatch, into 'constants'.
+        Vector<DispatchStage> stages;        // Per dispatch.
         uint64_t updatedEpoch = 0;
     };
 

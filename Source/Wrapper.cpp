@@ -13,7 +13,7 @@ static const Method kSupportedMethods[] = {Method::SIGMA_SHADOW, Method::SIGMA_S
                                            Method::TILED_SHADOW, Method::REBLUR_DIFFUSE, Method::REBLUR_SPECULAR,
                                            Method::REBLUR_DIFFUSE_SPECULAR, Method::REBLUR_DIFFUSE_OCCLUSION,
                                            Method::REBLUR_SPECULAR_OCCLUSION, Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION,
-                                           Method::CONFIDENCE};
+                                           Method::CONFIDENCE, Method::REFLECTION};
 static_assert(sizeof(kSupportedMethods) / sizeof(kSupportedMethods[0]) == size_t(Method::MAX_NUM),
               "every method must be listed");
 
@@ -22,7 +22,7 @@ static_assert(sizeof(kResultNames) / sizeof(kResultNames[0]) == size_t(Result::M
 
 static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLUCENCY", "REFERENCE", "TILED_SHADOW",
     "REBLUR_DIFFUSE", "REBLUR_SPECULAR", "REBLUR_DIFFUSE_SPECULAR", "REBLUR_DIFFUSE_OCCLUSION", "REBLUR_SPECULAR_OCCLUSION",
-    "REBLUR_DIFFUSE_SPECULAR_OCCLUSION", "CONFIDENCE"};
+    "REBLUR_DIFFUSE_SPECULAR_OCCLUSION", "CONFIDENCE", "REFLECTION"};
 static_assert(sizeof(kMethodNames) / sizeof(kMethodNames[0]) == size_t(Method::MAX_NUM), "name table");
 
 static const char* const kResourceTypeNames[] = {"IN_MV", "IN_NORMAL_ROUGHNESS", "IN_VIEWZ", "IN_SHADOWDATA",
@@ -171,13 +171,25 @@ Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const Confid
     return SetSettings(denoiser, identifier, SettingsKind::CONFIDENCE, &settings);
 }
 
+Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReflectionSettings& settings)
+{
+    return SetSettings(denoiser, identifier, SettingsKind::REFLECTION, &settings);
+}
+
 Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,
                             const DispatchDesc*& outDispatches, uint32_t& outDispatchesNum)
 {
+    return GetComputeDispatches(denoiser, identifiers, identifiersNum, DispatchStage::ALL, outDispatches,
+                                outDispatchesNum);
+}
+
+Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,
+                            DispatchStage stage, const DispatchDesc*& outDispatches, uint32_t& outDispatchesNum)
+{
     try
     {
-        return reinterpret_cast<InstanceImpl&>(denoiser).GetComputeDispatches(identifiers, identifiersNum, outDispatches,
-                                                                               outDispatchesNum);
+        return reinterpret_cast<InstanceImpl&>(denoiser).GetComputeDispatches(identifiers, identifiersNum, stage,
+                                                                               outDispatches, outDispatchesNum);
     }
     catch (...)
     {

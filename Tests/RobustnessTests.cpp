@@ -391,6 +391,26 @@ MethodTraits TraitsOf(Method method)
         };
         break;
     }
+    case Method::REFLECTION:
+    {
+        typedef ReflectionSettings S;
+        t.applyDefaults = Apply(S{});
+        t.settingsCases = {
+            SettingsCase("raysPerQuad 4, no guided tracing",
+                         Edited<S>([](S& s) { s.raysPerQuad = 4; s.enableTemporalVarianceGuidedTracing = false; }),
+                         {Edited<S>([](S& s) { s.raysPerQuad = 3; })}),
+            SettingsCase("roughnessThreshold 0, mirrorRoughness 1",
+                         Edited<S>([](S& s) { s.roughnessThreshold = 0.0f; s.mirrorRoughness = 1.0f; }),
+                         {Edited<S>([](S& s) { s.roughnessThreshold = kNaN; })}),
+            SettingsCase("maxHistoryFrameNum 1, no spatial, no blur",
+                         Edited<S>([](S& s) { s.maxHistoryFrameNum = 1; s.enableSpatial = false; s.enableBlur = false; }),
+                         {Edited<S>([](S& s) { s.maxHistoryFrameNum = 0; })}),
+            SettingsCase("edge stops at their limits",
+                         Edited<S>([](S& s) { s.normalSigma = 4096.0f; s.depthSigma = 64.0f; s.historyClipSigma = 16.0f; s.historyClipLeeway = 4.0f; }),
+                         {Edited<S>([](S& s) { s.normalSigma = 4097.0f; })}),
+        };
+        break;
+    }
     default:
         // A method without an entry here still runs every generic case, with the defaults above.
         break;

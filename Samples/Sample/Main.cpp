@@ -200,6 +200,9 @@ int main(int argc, char** argv)
     for (const auto& p : r.passMs)
         std::printf("  %-40s %8.3f ms\n", p.first.c_str(), p.second);
     std::printf("scene lab: %.1f ms/frame noisy, %.1f ms/frame truth\n", r.renderNoisyMs, r.renderTruthMs);
+    if (r.raysFullRate > 0.0)
+        std::printf("rays traced: %.0f per frame of %.0f at full rate (%.1f%%, %.1f%% saved)\n", r.raysTraced,
+                    r.raysFullRate, 100.0 * r.rayRatio, 100.0 * (1.0 - r.rayRatio));
     std::printf("images: %s_{noisy,denoised,truth}.{png,exr}, %s_strip.png; report: %s\n", base.c_str(), base.c_str(),
                 jsonPath.c_str());
     return 0;

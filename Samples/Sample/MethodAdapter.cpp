@@ -22,6 +22,7 @@ const AdapterFamily kFamilies[] = {
     {CreateTiledShadowAdapter, kTiledShadowSettingsKey},
     {CreateReblurAdapter, kReblurSettingsKey},
     {CreateConfidenceAdapter, kConfidenceSettingsKey},
+    {CreateReflectionAdapter, kReflectionSettingsKey},
 };
 
 } // namespace

@@ -83,6 +83,12 @@ public:
     // to the output's channels, missing channels 1.
     virtual std::vector<float> GetOutputInitialization(const std::string& signal, const Image& noisy) const;
 
+    // True for a method whose application traces rays between its two dispatch stages
+    // (nrd::Method::REFLECTION): the runner then runs DispatchStage::CLASSIFICATION, reads back the
+    // ray list, has the scene lab trace exactly those rays (SceneLab::TraceSpecularRays), uploads
+    // the result as IN_SPEC_RADIANCE_HITDIST and runs DispatchStage::DENOISING.
+    virtual bool IsRayListTraced() const { return false; }
+
     // Decodes the read-back output (all its channels) into the compared channels.
     virtual Image DecodeOutput(const std::string& signal, const Image& output) const = 0;
 };

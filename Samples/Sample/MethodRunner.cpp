@@ -150,6 +150,41 @@ struct Textures
     }
 };
 
+// The ray list of the classification stage just run, read back from the denoiser's pool buffers
+// (BufferContent::RAY_LIST / RAY_COUNTERS of method 'id').
+bool ReadRayList(nrd::lab::VulkanContext& vk, nrd::Integration& integration, nrd::Identifier id,
+                 std::vector<uint32_t>& rays, std::string& error)
+{
+    const nrd::DenoiserDesc& desc = integration.GetDenoiserDesc();
+    int32_t list = -1, counters = -1;
+    for (uint32_t i = 0; i < desc.buffersNum; i++)
+    {
+        if (desc.buffers[i].identifier == id && desc.buffers[i].content == nrd::BufferContent::RAY_LIST)
+            list = int32_t(i);
+        if (desc.buffers[i].identifier == id && desc.buffers[i].content == nrd::BufferContent::RAY_COUNTERS)
+            counters = int32_t(i);
+    }
+    if (list < 0 || counters < 0)
+    {
+        error = "the method has no ray list";
+        return false;
+    }
+    // Last touched by the classification's shaders (the stage was submitted and waited for).
+    const uint32_t written = nrd::rhi::ACCESS_SHADER_READ_WRITE | nrd::rhi::ACCESS_INDIRECT_ARGUMENTS;
+    std::vector<uint32_t> words;
+    if (vk.ReadbackBuffer(*integration.GetPoolBuffer(uint32_t(counters)), written, 16, words) != VK_SUCCESS ||
+        uint64_t(words[3]) * sizeof(uint32_t) > desc.buffers[list].size ||
+        (words[3] && vk.ReadbackBuffer(*integration.GetPoolBuffer(uint32_t(list)), written, words[3] * sizeof(uint32_t), rays) !=
+                         VK_SUCCESS))
+    {
+        error = "reading the ray list back failed";
+        return false;
+    }
+    if (words[3] == 0)
+        rays.clear();
+    return true;
+}
+
 // "driverName driverInfo" (Vulkan 1.2), else the raw driverVersion.
 std::string DriverString(nrd::lab::VulkanContext& vk)
 {
@@ -637,6 +672,39 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
                 }
 
             VkCommandBuffer cmd;
+            const bool isRayList = io.adapter->IsRayListTraced();
+            if (isRayList)
+            {
+                // Classification, then the lab traces exactly the listed rays into the input.
+                std::vector<uint32_t> rays;
+                Image traced;
+                if (vk.BeginCommands(cmd) != VK_SUCCESS ||
+                    integration.Denoise(cmd, &kId, 1, pool, nrd::DispatchStage::CLASSIFICATION) != VK_SUCCESS ||
+                    vk.SubmitAndWait(cmd) != VK_SUCCESS || !ReadRayList(vk, integration, kId, rays, error) ||
+                    !lab.TraceSpecularRays(scene, params, rays, traced, error))
+                {
+                    error = "ray list tracing failed: " + error;
+                    return false;
+                }
+                for (auto& t : textures->map)
+                    t.second.FromUserTexture(pool[t.first]);
+                auto& in = textures->map[nrd::ResourceType::IN_SPEC_RADIANCE_HITDIST];
+                if (vk.UploadTexture(in, ExpandChannels(traced, 4).data()) != VK_SUCCESS)
+                {
+                    error = "upload failed: traced rays";
+                    return false;
+                }
+                for (auto& t : textures->map)
+                    pool[t.first] = t.second.AsUserTexture();
+                if (f >= report.warmup)
+                {
+                    size_t fullRate = 0;
+                    for (float z : frame.viewZ.pixels)
+                        fullRate += z < kSkyViewZ ? 1 : 0;
+                    report.raysTraced += double(rays.size());
+                    report.raysFullRate += double(fullRate);
+                }
+            }
             bool recorded = vk.BeginCommands(cmd) == VK_SUCCESS;
             if (recorded && io.confidence)
             {
@@ -644,7 +712,9 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
                 for (const auto& types : confidenceTypes)
                     pool[types[1]] = pool[types[0]];
             }
-            recorded = recorded && integration.Denoise(cmd, &kId, 1, pool) == VK_SUCCESS;
+            recorded = recorded && integration.Denoise(cmd, &kId, 1, pool,
+                                                        isRayList ? nrd::DispatchStage::DENOISING : nrd::DispatchStage::ALL) ==
+                                        VK_SUCCESS;
             if (io.confidence)
                 for (const auto& types : confidenceTypes)
                     pool[types[0]].layout = pool[types[1]].layout; // The consumer read them last.
@@ -850,6 +920,12 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         report.passMs.push_back({p.first, timedFrames ? p.second / timedFrames : 0.0});
     report.renderNoisyMs /= report.frames;
     report.renderTruthMs /= report.frames;
+    if (report.frames > report.warmup && report.raysFullRate > 0.0)
+    {
+        report.rayRatio = report.raysTraced / report.raysFullRate;
+        report.raysTraced /= double(report.frames - report.warmup);
+        report.raysFullRate /= double(report.frames - report.warmup);
+    }
 
     // Lag: per sudden change of the truth (a light switched, a jump), up to the next one.
     std::vector<double> errors;
@@ -921,6 +997,12 @@ std::string ReportToJson(const RunReport& r)
     j["dispatches_per_frame"] = r.dispatchesPerFrame;
     j["render_noisy_ms_per_frame"] = r.renderNoisyMs;
     j["render_truth_ms_per_frame"] = r.renderTruthMs;
+    if (r.raysFullRate > 0.0)
+    {
+        j["rays_traced_per_frame"] = r.raysTraced;
+        j["rays_full_rate_per_frame"] = r.raysFullRate;
+        j["ray_ratio"] = r.rayRatio;
+    }
     nlohmann::json passes = nlohmann::json::object();
     for (const auto& p : r.passMs)
         passes[p.first] = p.second;

@@ -122,6 +122,9 @@ struct RunReport
     std::vector<FrameMetrics> perFrame;
     std::vector<std::pair<std::string, double>> passMs; // Mean GPU time per dispatch name.
     double renderNoisyMs = 0, renderTruthMs = 0;        // Scene-lab time per frame (wall, incl. cache).
+    // Methods that trace a ray list (MethodAdapter::IsRayListTraced), means over the frames after
+    // the warm-up: rays the lab traced, rays of the full-rate input (one per non-sky pixel), ratio.
+    double raysTraced = 0, raysFullRate = 0, rayRatio = 0;
     uint32_t validationMessages = 0;
     Image noisy, denoised, truth;  // Last frame (if keepImages).
     std::vector<TimingReport> timing; // With RunOptions::timing.frames: one per settings variant.

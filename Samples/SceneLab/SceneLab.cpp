@@ -193,6 +193,7 @@ struct Pass
     std::string shader;
     std::vector<Output> outputs;
     bool isTruth = false; // Takes LabTruthChunk push constants.
+    bool isRayList = false; // Reads the ray list and its arguments (LabRays.comp).
 };
 
 std::string VariantSuffix(const RenderParams& p)
@@ -361,6 +362,9 @@ struct SceneLab::Impl
     std::vector<uint32_t> meshRoots;  // Root node of each of 'meshes'.
     rhi::Buffer* readback = nullptr;
     uint64_t readbackSize = 0;
+    rhi::Buffer* rayList = nullptr;   // uint[]: TraceSpecularRays' ray list
+    uint64_t rayListSize = 0;
+    rhi::Buffer* rayArgs = nullptr;   // uint[4]: its indirect arguments and ray count
     Texture textures[SLOT_NUM];
     bool isValid = false;
 
@@ -377,7 +381,7 @@ struct SceneLab::Impl
             device.DestroyPipeline(p.second);
         device.DestroyDescriptorPool(descriptorPool);
         device.DestroyCommandBuffer(commandBuffer);
-        for (rhi::Buffer* b : {constants, objects, materials, lights, bvhNodes, triangles, readback})
+        for (rhi::Buffer* b : {constants, objects, materials, lights, bvhNodes, triangles, readback, rayList, rayArgs})
             device.DestroyBuffer(b);
     }
 
@@ -395,7 +399,12 @@ struct SceneLab::Impl
         const LabShaderBlob* blobs = GetLabShaders(count);
         uint64_t h = 0xcbf29ce484222325ull;
         for (uint32_t i = 0; i < count; i++)
+        {
+            // The ray-list variants write nothing the cache holds (TraceSpecularRays is never cached).
+            if (std::strncmp(blobs[i].name, "LabRays_", 8) == 0)
+                continue;
             h = Fnv1a64(blobs[i].words, blobs[i].size, h);
+        }
         char hex[17];
         std::snprintf(hex, sizeof(hex), "%016llx", (unsigned long long)h);
         shaderHash = hex;
@@ -448,6 +457,9 @@ struct SceneLab::Impl
             bindings.push_back({b, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
         for (uint32_t b : {LAB_BINDING_BVH_NODES, LAB_BINDING_TRIANGLES})
             bindings.push_back({b, rhi::DescriptorType::BUFFER, 1, nullptr});
+        if (pass.isRayList)
+            for (uint32_t b : {LAB_BINDING_RAY_LIST, LAB_BINDING_RAY_ARGS})
+                bindings.push_back({b, rhi::DescriptorType::BUFFER, 1, nullptr});
         for (const Output& o : pass.outputs)
             bindings.push_back({o.binding, rhi::DescriptorType::STORAGE_TEXTURE, 1, nullptr});
         rhi::DescriptorSetDesc set = {bindings.data(), uint32_t(bindings.size())};
@@ -499,7 +511,7 @@ struct SceneLab::Impl
         td.format = IsUint(slot) ? rhi::Format::R32_UINT : rhi::Format::RGBA32_SFLOAT;
         td.width = tw;
         td.height = th;
-        td.usage = rhi::TEXTURE_USAGE_STORAGE | rhi::TEXTURE_USAGE_COPY_SOURCE;
+        td.usage = rhi::TEXTURE_USAGE_STORAGE | rhi::TEXTURE_USAGE_COPY_SOURCE | rhi::TEXTURE_USAGE_COPY_DESTINATION;
         td.name = "LabOutput";
         if (!Check(device.CreateTexture(td, t.texture), "CreateTexture"))
             return false;
@@ -559,8 +571,14 @@ struct SceneLab::Impl
                 wr.buffer = buffers[i];
                 writes.push_back(wr);
             }
-            for (auto [binding, buffer] : {std::make_pair(uint32_t(LAB_BINDING_BVH_NODES), bvhNodes),
-                                           std::make_pair(uint32_t(LAB_BINDING_TRIANGLES), triangles)})
+            std::vector<std::pair<uint32_t, rhi::Buffer*>> storage = {{uint32_t(LAB_BINDING_BVH_NODES), bvhNodes},
+                                                                      {uint32_t(LAB_BINDING_TRIANGLES), triangles}};
+            if (pass.isRayList)
+            {
+                storage.push_back({uint32_t(LAB_BINDING_RAY_LIST), rayList});
+                storage.push_back({uint32_t(LAB_BINDING_RAY_ARGS), rayArgs});
+            }
+            for (auto [binding, buffer] : storage)
             {
                 rhi::DescriptorWrite wr;
                 wr.binding = binding;
@@ -644,6 +662,8 @@ struct SceneLab::Impl
                 const RenderParams& p, uint32_t seed);
     void StoreNoisy(Slot slot, const float* d, uint32_t w, uint32_t h, FrameData& out);
     bool Render(const Scene& scene, const RenderParams& p, FrameData& out, std::string& err);
+    bool TraceSpecularRays(const Scene& scene, const RenderParams& p, const std::vector<uint32_t>& rays, Image& out,
+                           std::string& err);
 };
 
 // The meshes of 'scene' -> bvhNodes / triangles, concatenated (node and triangle indices offset);
@@ -1121,6 +1141,90 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
 
 // ------------------------------------------------------------------------------------------------
 
+bool SceneLab::Impl::TraceSpecularRays(const Scene& scene, const RenderParams& p, const std::vector<uint32_t>& rays,
+                                       Image& out, std::string& err)
+{
+    auto fail = [&](const std::string& message) {
+        err = message;
+        return false;
+    };
+    if (!isValid)
+        return fail("the scene lab is not valid: " + error);
+    if (p.width < 1 || p.height < 1 || p.width > kMaxSize || p.height > kMaxSize)
+        return fail("size out of range");
+    if (p.bounces < 1 || p.bounces > 2)
+        return fail("bounces must be 1 or 2");
+    if (scene.objects.size() > kMaxObjects || scene.lights.size() > kMaxLights)
+        return fail("the scene has more objects or lights than the path tracer supports");
+    if (rays.size() > size_t(p.width) * p.height)
+        return fail("the ray list has more rays than pixels");
+
+    const uint32_t w = p.width, h = p.height;
+    const uint32_t seed = p.seed == kSceneSeed ? scene.seed : p.seed;
+    const SceneState cur = EvaluateScene(scene, p.frameIndex);
+    const SceneState prev = EvaluateScene(scene, p.frameIndex > 0 ? p.frameIndex - 1 : 0);
+    const FrameCamera camera = ComputeFrameCamera(scene, p.frameIndex, w, h);
+    if (!UploadMeshes(scene))
+        return fail(error);
+    Upload(scene, cur, prev, camera, p, seed);
+    if (!Check(device.ResetDescriptorPool(*descriptorPool), "ResetDescriptorPool"))
+        return fail(error);
+
+    // The list and its indirect arguments, as the denoiser's classification wrote them.
+    const uint64_t listBytes = std::max<uint64_t>(rays.size(), 1) * sizeof(uint32_t);
+    if (listBytes > rayListSize || !rayArgs)
+    {
+        device.WaitIdle();
+        device.DestroyBuffer(rayList);
+        device.DestroyBuffer(rayArgs);
+        rayList = rayArgs = nullptr;
+        rayListSize = 0;
+        rhi::BufferDesc bd;
+        bd.size = listBytes;
+        bd.usage = rhi::BUFFER_USAGE_STORAGE;
+        bd.location = rhi::MemoryLocation::HOST_UPLOAD;
+        bd.name = "LabRayList";
+        if (!Check(device.CreateBuffer(bd, rayList), "CreateBuffer (ray list)"))
+            return fail(error);
+        rayListSize = listBytes;
+        bd.size = 4 * sizeof(uint32_t);
+        bd.usage = rhi::BUFFER_USAGE_STORAGE | rhi::BUFFER_USAGE_INDIRECT_ARGUMENTS;
+        bd.name = "LabRayArgs";
+        if (!Check(device.CreateBuffer(bd, rayArgs), "CreateBuffer (ray arguments)"))
+            return fail(error);
+    }
+    if (!rays.empty())
+        std::memcpy(device.MapBuffer(*rayList), rays.data(), rays.size() * sizeof(uint32_t));
+    const uint32_t groupRays = LAB_GROUP_X * LAB_GROUP_Y;
+    const uint32_t args[4] = {DivideUp(uint32_t(rays.size()), groupRays), 1u, 1u, uint32_t(rays.size())};
+    std::memcpy(device.MapBuffer(*rayArgs), args, sizeof(args));
+
+    Pass pass = {"LabRays_Specular" + VariantSuffix(p), {{LAB_BINDING_SPECULAR, SLOT_SPECULAR}}};
+    pass.isRayList = true;
+    std::vector<rhi::DescriptorSet*> sets;
+    if (!PreparePasses({pass}, w, h, sets) || !Check(device.BeginCommandBuffer(*commandBuffer), "BeginCommandBuffer"))
+        return fail(error);
+    // Pixels no ray reaches read as "nothing traced": no radiance, no hit.
+    textures[SLOT_SPECULAR].state = {rhi::ACCESS_UNKNOWN, rhi::Layout::UNDEFINED};
+    Transition({SLOT_SPECULAR}, {rhi::ACCESS_COPY_DESTINATION, rhi::Layout::GENERAL});
+    const float empty[4] = {0.0f, 0.0f, 0.0f, 1.0f};
+    device.CmdClearTexture(*commandBuffer, *textures[SLOT_SPECULAR].texture, rhi::Layout::GENERAL, empty);
+    // Clear -> the ray pass's writes.
+    Transition({SLOT_SPECULAR}, {rhi::ACCESS_SHADER_READ_WRITE, rhi::Layout::GENERAL});
+    rhi::Pipeline& pipeline = *pipelines[pass.shader];
+    device.CmdBindPipeline(*commandBuffer, pipeline);
+    device.CmdBindDescriptorSet(*commandBuffer, pipeline, 0, *sets[0]);
+    device.CmdDispatchIndirect(*commandBuffer, *rayArgs, 0);
+    std::vector<uint64_t> offsets;
+    if (!RecordReadback({SLOT_SPECULAR}, offsets) || !Check(device.EndCommandBuffer(*commandBuffer), "EndCommandBuffer") ||
+        !Check(device.SubmitAndWait(*commandBuffer), "SubmitAndWait"))
+        return fail(error);
+    const float* data = ReadbackFloats(offsets[0]);
+    out = Image(w, h, 4);
+    std::memcpy(out.pixels.data(), data, size_t(w) * h * 4 * sizeof(float));
+    return true;
+}
+
 SceneLab::SceneLab(nrd::rhi::Device& device, const SceneLabDesc& desc) : m_Impl(new Impl(device))
 {
     m_Impl->desc = desc;
@@ -1152,6 +1256,12 @@ void SceneLab::SetCacheDirectory(const std::string& directory)
 bool SceneLab::Render(const Scene& scene, const RenderParams& params, FrameData& out, std::string& error)
 {
     return m_Impl->Render(scene, params, out, error);
+}
+
+bool SceneLab::TraceSpecularRays(const Scene& scene, const RenderParams& params, const std::vector<uint32_t>& rayList,
+                                 Image& out, std::string& error)
+{
+    return m_Impl->TraceSpecularRays(scene, params, rayList, out, error);
 }
 
 } // namespace nrdlab

@@ -197,6 +197,16 @@ public:
     // light index, bounces, too many objects) or a device error; 'out' is then unspecified.
     bool Render(const Scene& scene, const RenderParams& params, FrameData& out, std::string& error);
 
+    // The application's ray pass of a variable-rate reflection denoiser (nrd::Method::REFLECTION):
+    // traces the specular sample of frame 'params.frameIndex' (as Render's SIGNAL_SPECULAR, same
+    // random stream, so a ray of pixel p gives exactly frame.specular at p) for the rays of
+    // 'rayList' only (nrd::BufferContent::RAY_LIST entries), with one indirect dispatch over the
+    // list; each result also goes to the quad neighbours its entry names. 'out' (4 ch, packed as
+    // FrameData::specular) is (0, 0, 0, 1) wherever no ray wrote. Never cached. Returns false with a
+    // message for bad params or a device error.
+    bool TraceSpecularRays(const Scene& scene, const RenderParams& params, const std::vector<uint32_t>& rayList,
+                           Image& out, std::string& error);
+
     void SetCacheDirectory(const std::string& directory);
 
 private:

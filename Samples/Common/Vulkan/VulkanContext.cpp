@@ -648,5 +648,40 @@ VkResult VulkanContext::ReadbackTexture(LabTexture& texture, std::vector<float>&
     return result;
 }
 
+VkResult VulkanContext::ReadbackBuffer(rhi::Buffer& buffer, uint32_t lastAccess, uint64_t size,
+                                       std::vector<uint32_t>& outWords)
+{
+    rhi::BufferDesc readbackDesc = {};
+    readbackDesc.size = size;
+    readbackDesc.usage = rhi::BUFFER_USAGE_COPY_DESTINATION;
+    readbackDesc.location = rhi::MemoryLocation::HOST_READBACK;
+    readbackDesc.name = "Buffer readback";
+    rhi::Buffer* readback = nullptr;
+    VkResult result = rhi::ToVkResult(m_Rhi->CreateBuffer(readbackDesc, readback));
+    if (result != VK_SUCCESS)
+        return result;
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    result = BeginCommands(commandBuffer);
+    if (result == VK_SUCCESS)
+    {
+        rhi::CommandBuffer& cmd = rhi::GetCommandBuffer(commandBuffer);
+        // RAW: the copy reads what the last user wrote.
+        rhi::BufferBarrier toCopy = {&buffer, lastAccess, rhi::ACCESS_COPY_SOURCE};
+        m_Rhi->CmdBarrier(cmd, {nullptr, 0, &toCopy, 1, nullptr, 0});
+        m_Rhi->CmdCopyBuffer(cmd, *readback, 0, buffer, 0, size);
+        // RAW: the host reads what the copy wrote.
+        rhi::BufferBarrier toHost = {readback, rhi::ACCESS_COPY_DESTINATION, rhi::ACCESS_HOST_READ};
+        m_Rhi->CmdBarrier(cmd, {nullptr, 0, &toHost, 1, nullptr, 0});
+        result = SubmitAndWait(commandBuffer);
+    }
+    if (result == VK_SUCCESS)
+    {
+        const uint32_t* words = static_cast<const uint32_t*>(m_Rhi->MapBuffer(*readback));
+        outWords.assign(words, words + size / sizeof(uint32_t));
+    }
+    m_Rhi->DestroyBuffer(readback);
+    return result;
+}
+
 } // namespace lab
 } // namespace nrd

@@ -95,6 +95,9 @@ public:
     // Reads the whole texture back as floats (same layout as UploadTexture). Waits for completion;
     // leaves the texture in COPY_SOURCE.
     VkResult ReadbackTexture(LabTexture& texture, std::vector<float>& outPixels);
+    // Reads the first 'size' bytes (a multiple of 4) of a buffer back as uint32 words. 'lastAccess'
+    // (rhi::AccessBits) is what last touched it; the copy waits for it. Waits for completion.
+    VkResult ReadbackBuffer(rhi::Buffer& buffer, uint32_t lastAccess, uint64_t size, std::vector<uint32_t>& outWords);
 
 private:
     static VKAPI_ATTR VkBool32 VKAPI_CALL OnValidationMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,

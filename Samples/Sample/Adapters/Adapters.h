@@ -33,6 +33,9 @@ extern const char* const kReblurSettingsKey;
 // CONFIDENCE (also chained in front of a consumer, RunOptions::confidence).
 std::unique_ptr<MethodAdapter> CreateConfidenceAdapter(const std::string& method);
 extern const char* const kConfidenceSettingsKey;
+// REFLECTION (traces the lab's specular signal for its ray list).
+std::unique_ptr<MethodAdapter> CreateReflectionAdapter(const std::string& method);
+extern const char* const kReflectionSettingsKey;
 
 // Shared by the adapters: the lab's noisy input and truth of the shadow, diffuse and specular
 // signals in their compared channels (shadow: 1, diffuse / specular: rgb radiance,

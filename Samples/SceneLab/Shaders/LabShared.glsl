@@ -81,7 +81,9 @@ struct mat4 { float m[16]; }; // Column-major, as GLSL.
 // Triangle meshes (readonly storage buffers, every pass; one dummy element when the scene has none)
 #define LAB_BINDING_BVH_NODES 18     // LabBvhNode[], the BVHs of every mesh one after the other
 #define LAB_BINDING_TRIANGLES 19     // LabTriangle[], in BVH leaf order
-#define LAB_BINDING_NUM 20
+#define LAB_BINDING_RAY_LIST 20     // uint[]: the rays to trace (nrd::BufferContent::RAY_LIST entries)
+#define LAB_BINDING_RAY_ARGS 21     // uint[4]: indirect dispatch (groups, 1, 1), ray count
+#define LAB_BINDING_NUM 22
 
 // Traversal stack of the mesh BVH: Mesh.h kMaxBvhDepth + 1.
 #define LAB_BVH_STACK 64
