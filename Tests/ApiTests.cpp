@@ -235,7 +235,11 @@ TEST_CASE("Every dispatch refers to existing pipelines and pool entries with mat
                 CHECK((d.constantBufferDataSize == 0) == (d.constantBufferData == nullptr));
                 CHECK(d.gridWidth > 0);
                 CHECK(d.gridHeight > 0);
-                CHECK(uint32_t(d.gridWidth) * p.groupSizeX <= 67u + p.groupSizeX * 8u);
+                // Direct grids cover the image; indirect ones (a list of tiles) never more threads than it.
+                if (d.isIndirect)
+                    CHECK(uint64_t(d.gridWidth) * d.gridHeight * p.groupSizeX * p.groupSizeY <= (67u + 8u) * (33u + 8u));
+                else
+                    CHECK(uint32_t(d.gridWidth) * p.groupSizeX <= 67u + p.groupSizeX * 8u);
                 bool known = false;
                 for (const nrd::MethodDesc& m : methods)
                     known |= m.identifier == d.identifier;

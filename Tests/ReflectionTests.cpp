@@ -253,22 +253,7 @@ struct ReflectionRig
 
     std::vector<float> Permanent(uint16_t index)
     {
-        Integration::PoolImage image = integration.GetPoolImage(ResourceType::PERMANENT_POOL, index);
-        REQUIRE(image.texture != nullptr);
-        lab::LabTexture view;
-        view.texture = image.texture;
-        view.format = rhi::FromVkFormat(image.format);
-        view.width = image.width;
-        view.height = image.height;
-        view.state = image.state;
-        std::vector<float> pixels;
-        REQUIRE(context.ReadbackTexture(view, pixels) == VK_SUCCESS);
-        VkCommandBuffer cmd = VK_NULL_HANDLE;
-        REQUIRE(context.BeginCommands(cmd) == VK_SUCCESS);
-        rhi::TextureBarrier back = {image.texture, view.state, image.state};
-        context.GetDevice().CmdBarrier(rhi::GetCommandBuffer(cmd), {nullptr, 0, nullptr, 0, &back, 1});
-        REQUIRE(context.SubmitAndWait(cmd) == VK_SUCCESS);
-        return pixels;
+        return test::ReadbackPoolTexture(context, integration, ResourceType::PERMANENT_POOL, index);
     }
 
     // Compares this frame's ray list, counters, tile list and indirect arguments with 'expected'.
@@ -370,6 +355,7 @@ TEST_CASE("REFLECTION classification lists exactly the rays, tiles and arguments
             rig.Stage(DispatchStage::DENOISING);
         }
     }
+    CHECK(context->ValidationMessageCount() == 0);
 }
 
 TEST_CASE("REFLECTION writes only the tiles that need it, mirrors as traced, finite values", "[reflection]")
@@ -423,6 +409,7 @@ TEST_CASE("REFLECTION writes only the tiles that need it, mirrors as traced, fin
     CHECK(wrongMirror == 0);
     CHECK(notFinite == 0);
     CHECK(unwritten == 0);
+    CHECK(context->ValidationMessageCount() == 0);
 }
 
 TEST_CASE("REFLECTION dispatches split into a classification and a denoising stage", "[reflection]")

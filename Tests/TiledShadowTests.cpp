@@ -469,23 +469,7 @@ std::pair<uint16_t, uint16_t> FilterInputPoolIndices(uint32_t w, uint32_t h, con
 // Reads a transient pool texture back (the last Denoise of 'integration' must have completed).
 std::vector<float> ReadbackTransient(lab::VulkanContext& context, Integration& integration, uint16_t index)
 {
-    Integration::PoolImage image = integration.GetPoolImage(ResourceType::TRANSIENT_POOL, index);
-    REQUIRE(image.texture != nullptr);
-    lab::LabTexture view;
-    view.texture = image.texture;
-    view.format = rhi::FromVkFormat(image.format);
-    view.width = image.width;
-    view.height = image.height;
-    view.state = image.state;
-    std::vector<float> pixels;
-    REQUIRE(context.ReadbackTexture(view, pixels) == VK_SUCCESS);
-    // Back to the state the Integration tracks.
-    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
-    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
-    rhi::TextureBarrier back = {image.texture, view.state, image.state};
-    context.GetDevice().CmdBarrier(rhi::GetCommandBuffer(commandBuffer), {nullptr, 0, nullptr, 0, &back, 1});
-    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
-    return pixels;
+    return test::ReadbackPoolTexture(context, integration, ResourceType::TRANSIENT_POOL, index);
 }
 
 } // namespace

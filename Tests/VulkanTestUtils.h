@@ -1,8 +1,11 @@
 // Helpers for Vulkan tests (label "vulkan"): a validated context, random images, camera settings,
-// and "run one Denoise with these textures and wait". Header-only; include after catch2.
+// and "run one Denoise with these textures and wait". Header-only.
 #pragma once
 
+#include <catch2/catch.hpp>
+
 #include "NRDIntegration.h"
+#include "RHIVulkan.h"
 #include "VulkanContext.h"
 
 #include <cmath>
@@ -114,6 +117,29 @@ inline VkResult DenoiseAndWait(lab::VulkanContext& context, Integration& integra
     for (const auto& binding : textures)
         binding.second->FromUserTexture(pool[binding.first]);
     return submitted;
+}
+
+// Reads a pool texture ('type' PERMANENT_POOL or TRANSIENT_POOL) back as the last Denoise of
+// 'integration' left it (that Denoise must have completed), then restores the state it tracks.
+inline std::vector<float> ReadbackPoolTexture(lab::VulkanContext& context, Integration& integration, ResourceType type,
+                                              uint16_t index)
+{
+    Integration::PoolImage image = integration.GetPoolImage(type, index);
+    REQUIRE(image.texture != nullptr);
+    lab::LabTexture view;
+    view.texture = image.texture;
+    view.format = rhi::FromVkFormat(image.format);
+    view.width = image.width;
+    view.height = image.height;
+    view.state = image.state;
+    std::vector<float> pixels;
+    REQUIRE(context.ReadbackTexture(view, pixels) == VK_SUCCESS);
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
+    rhi::TextureBarrier back = {image.texture, view.state, image.state};
+    context.GetDevice().CmdBarrier(rhi::GetCommandBuffer(commandBuffer), {nullptr, 0, nullptr, 0, &back, 1});
+    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
+    return pixels;
 }
 
 } // namespace test

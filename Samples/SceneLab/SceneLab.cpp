@@ -661,6 +661,7 @@ struct SceneLab::Impl
     void Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
                 const RenderParams& p, uint32_t seed);
     void StoreNoisy(Slot slot, const float* d, uint32_t w, uint32_t h, FrameData& out);
+    std::string CheckParams(const Scene& scene, const RenderParams& p) const;
     bool Render(const Scene& scene, const RenderParams& p, FrameData& out, std::string& err);
     bool TraceSpecularRays(const Scene& scene, const RenderParams& p, const std::vector<uint32_t>& rays, Image& out,
                            std::string& err);
@@ -861,6 +862,24 @@ void SceneLab::Impl::StoreNoisy(Slot slot, const float* d, uint32_t w, uint32_t 
     }
 }
 
+// What Render and TraceSpecularRays both need of their parameters; empty if they are fine.
+std::string SceneLab::Impl::CheckParams(const Scene& scene, const RenderParams& p) const
+{
+    if (!isValid)
+        return "the scene lab is not valid: " + error;
+    if (p.width < 1 || p.height < 1 || p.width > kMaxSize || p.height > kMaxSize)
+        return "size " + std::to_string(p.width) + "x" + std::to_string(p.height) + " out of range (1.." +
+               std::to_string(kMaxSize) + ")";
+    if (p.bounces < 1 || p.bounces > 2)
+        return "bounces must be 1 or 2";
+    if (scene.objects.size() > kMaxObjects || scene.lights.size() > kMaxLights)
+        return "the scene has more objects or lights than the path tracer supports";
+    for (size_t i = 0; i < scene.objects.size(); i++)
+        if (scene.objects[i].type == PrimitiveType::MESH && (!scene.objects[i].mesh || scene.objects[i].mesh->nodes.empty()))
+            return "object " + std::to_string(i) + " is a mesh without loaded triangles";
+    return std::string();
+}
+
 bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData& out, std::string& err)
 {
     using Clock = std::chrono::steady_clock;
@@ -870,22 +889,13 @@ bool SceneLab::Impl::Render(const Scene& scene, const RenderParams& p, FrameData
     };
 
     // Parameters.
-    if (!isValid)
-        return fail("the scene lab is not valid: " + error);
-    if (p.width < 1 || p.height < 1 || p.width > kMaxSize || p.height > kMaxSize)
-        return fail("size " + std::to_string(p.width) + "x" + std::to_string(p.height) + " out of range (1.." +
-                    std::to_string(kMaxSize) + ")");
+    std::string problem = CheckParams(scene, p);
+    if (!problem.empty())
+        return fail(problem);
     if (p.signals & ~uint32_t(SIGNAL_ALL))
         return fail("unknown signal bits in RenderParams::signals");
-    if (p.bounces < 1 || p.bounces > 2)
-        return fail("bounces must be 1 or 2");
     if (p.truthSpp > 0 && p.truthChunkSpp == 0)
         return fail("truthChunkSpp must be at least 1");
-    if (scene.objects.size() > kMaxObjects || scene.lights.size() > kMaxLights)
-        return fail("the scene has more objects or lights than the path tracer supports");
-    for (size_t i = 0; i < scene.objects.size(); i++)
-        if (scene.objects[i].type == PrimitiveType::MESH && (!scene.objects[i].mesh || scene.objects[i].mesh->nodes.empty()))
-            return fail("object " + std::to_string(i) + " is a mesh without loaded triangles");
     if ((p.signals & SIGNAL_SHADOW) && p.lightIndex >= scene.lights.size())
         return fail("lightIndex " + std::to_string(p.lightIndex) + " out of range: the scene has " +
                     std::to_string(scene.lights.size()) + " light(s)");
@@ -1148,14 +1158,9 @@ bool SceneLab::Impl::TraceSpecularRays(const Scene& scene, const RenderParams& p
         err = message;
         return false;
     };
-    if (!isValid)
-        return fail("the scene lab is not valid: " + error);
-    if (p.width < 1 || p.height < 1 || p.width > kMaxSize || p.height > kMaxSize)
-        return fail("size out of range");
-    if (p.bounces < 1 || p.bounces > 2)
-        return fail("bounces must be 1 or 2");
-    if (scene.objects.size() > kMaxObjects || scene.lights.size() > kMaxLights)
-        return fail("the scene has more objects or lights than the path tracer supports");
+    std::string problem = CheckParams(scene, p);
+    if (!problem.empty())
+        return fail(problem);
     if (rays.size() > size_t(p.width) * p.height)
         return fail("the ray list has more rays than pixels");
 
