@@ -205,6 +205,7 @@ Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
             break;
         case Method::CONFIDENCE:
             method.impl = CreateConfidence(builder, method.desc.method);
+            break;
         case Method::REFLECTION:
             method.impl = CreateReflection(builder, method.desc.method);
             break;

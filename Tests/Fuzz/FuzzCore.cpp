@@ -245,13 +245,45 @@ nrd::ConfidenceSettings DecodeConfidence(FuzzedDataProvider& in)
     return s;
 }
 
+nrd::ReflectionSettings DecodeReflection(FuzzedDataProvider& in)
+{
+    nrd::ReflectionSettings s;
+    if (in.ConsumeIntegralInRange<uint8_t>(0, 7) == 0)
+    {
+        s = DecodeRaw<nrd::ReflectionSettings>(in);
+        s.enableTemporalVarianceGuidedTracing = in.ConsumeBool(); // A bool other than 0 / 1 is the caller's UB.
+        s.enableSpatial = in.ConsumeBool();
+        s.enableBlur = in.ConsumeBool();
+        return s;
+    }
+    uint32_t edits = in.ConsumeIntegralInRange<uint32_t>(0, 4);
+    for (uint32_t e = 0; e < edits; e++)
+    {
+        switch (in.ConsumeIntegralInRange<uint8_t>(0, 9))
+        {
+        case 0: s.roughnessThreshold = InterestingFloat(in); break;
+        case 1: s.mirrorRoughness = InterestingFloat(in); break;
+        case 2: s.raysPerQuad = InterestingUint(in); break;
+        case 3: s.temporalVarianceThreshold = InterestingFloat(in); break;
+        case 4: s.maxHistoryFrameNum = InterestingUint(in); break;
+        case 5: s.hitReprojectionRoughness = InterestingFloat(in); break;
+        case 6: s.historyClipSigma = InterestingFloat(in); break;
+        case 7: s.historyClipLeeway = InterestingFloat(in); break;
+        case 8: s.normalSigma = InterestingFloat(in); break;
+        default: s.hitDistanceParameters.A = InterestingFloat(in); break;
+        }
+    }
+    return s;
+}
+
 nrd::Result CallSetMethodSettings(FuzzedDataProvider& in, nrd::Denoiser& denoiser, nrd::Identifier identifier)
 {
-    switch (in.ConsumeIntegralInRange<uint8_t>(0, 3))
+    switch (in.ConsumeIntegralInRange<uint8_t>(0, 4))
     {
     case 0: return nrd::SetMethodSettings(denoiser, identifier, DecodeSigma(in));
     case 1: return nrd::SetMethodSettings(denoiser, identifier, DecodeReference(in));
     case 2: return nrd::SetMethodSettings(denoiser, identifier, DecodeConfidence(in));
+    case 3: return nrd::SetMethodSettings(denoiser, identifier, DecodeReflection(in));
     default: return nrd::SetMethodSettings(denoiser, identifier, DecodeTiledShadow(in));
     }
 }
