@@ -1,13 +1,13 @@
 # cmake -DBENCH=<nrd-bench> -DWORK_DIR=<dir> -DPRESETS=<file.json> -P BenchSmoke.cmake
-# A short lavapipe run of nrd-bench over the shadow methods and REFERENCE (one setting each, two
-# for TILED_SHADOW; REBLUR_DIFFUSE_SPECULAR fails in the method runner on lavapipe today),
-# then checks its outputs: the JSON report against the schema and the bandwidth bound
+# A short lavapipe run of nrd-bench over every method of the library's list (each at its default
+# settings, two for TILED_SHADOW: PRESETS), at a tiny size, with nrd-sample's one-frame-per-submission
+# pattern, then checks its outputs: the JSON report against the schema and the bandwidth bound
 # (nrd-bench --validate), the Markdown table, and one PNG plot per method.
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(
-    COMMAND ${BENCH} --methods SIGMA_SHADOW,SIGMA_SHADOW_TRANSLUCENCY,REFERENCE,TILED_SHADOW --sizes 64x64 --error-size 64x64 --scene static --frames 4 --truth-spp 8 --timed-frames 8
-            --warmup-frames 4 --frames-per-submission 4 --copy-mib 8 --budget-ms 1000 --presets ${PRESETS}
-            --cache ${WORK_DIR}/cache --out ${WORK_DIR} --quiet
+    COMMAND ${BENCH} --sizes 16x16 --error-size 16x16 --scene static --frames 3 --truth-spp 4 --timed-frames 2
+            --warmup-frames 1 --frames-per-submission 2 --isolated-idle-ms 1 --copy-mib 1 --budget-ms 1000
+            --presets ${PRESETS} --cache ${WORK_DIR}/cache --out ${WORK_DIR} --quiet
     RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE errors)
 if(NOT result EQUAL 0)
     message(FATAL_ERROR "nrd-bench failed (${result}):\n${output}\n${errors}")
@@ -23,6 +23,19 @@ file(READ ${WORK_DIR}/bench.md markdown)
 if(NOT markdown MATCHES "\\| TILED_SHADOW \\| atrous-1")
     message(FATAL_ERROR "bench.md lacks the TILED_SHADOW rows:\n${markdown}")
 endif()
+# Every method nrd-bench --list-methods names has its row.
+execute_process(COMMAND ${BENCH} --list-methods RESULT_VARIABLE result OUTPUT_VARIABLE methods)
+string(REPLACE "\n" ";" methods "${methods}")
+list(FILTER methods EXCLUDE REGEX "^$")
+list(LENGTH methods methods_num)
+if(NOT result EQUAL 0 OR methods_num LESS 5)
+    message(FATAL_ERROR "nrd-bench --list-methods: ${result}, '${methods}'")
+endif()
+foreach(method IN LISTS methods)
+    if(NOT markdown MATCHES "\\| ${method} \\| default")
+        message(FATAL_ERROR "bench.md lacks ${method}:\n${markdown}")
+    endif()
+endforeach()
 # One plot per method of the report, each a PNG.
 file(READ ${WORK_DIR}/bench.json report)
 string(JSON results_num LENGTH "${report}" results)
@@ -38,4 +51,4 @@ foreach(i RANGE ${last})
         message(FATAL_ERROR "${png} is not a PNG")
     endif()
 endforeach()
-message(STATUS "nrd-bench smoke: ${results_num} settings, report valid")
+message(STATUS "nrd-bench smoke: ${methods_num} methods, ${results_num} settings, report valid")

@@ -7,9 +7,11 @@
 //           [--frames-per-submission N] [--isolated-idle-ms MS] [--copy-mib N] [--budget-ms X]
 //           [--presets FILE.json] [--out DIR] [--device I] [--cache DIR|none] [--deadline-s S] [--quiet]
 // nrd-bench --validate REPORT.json
+// nrd-bench --list-methods
 #include "Bench.h"
 #include "MethodRunner.h"
 #include "NRD.h"
+#include "VulkanContext.h"
 
 #include <algorithm>
 #include <chrono>
@@ -32,7 +34,8 @@ void PrintUsage()
                  "                 [--frames-per-submission N] [--isolated-idle-ms MS] [--copy-mib N] [--budget-ms X]\n"
                  "                 [--presets FILE.json] [--out DIR] [--device I] [--cache DIR|none] [--deadline-s S]\n"
                  "                 [--quiet]\n"
-                 "       nrd-bench --validate REPORT.json\n");
+                 "       nrd-bench --validate REPORT.json\n"
+                 "       nrd-bench --list-methods\n");
 }
 
 bool ParseUint(const std::string& s, uint32_t& out)
@@ -148,6 +151,14 @@ int main(int argc, char** argv)
         if (a == "--help" || a == "-h")
         {
             PrintUsage();
+            return 0;
+        }
+        if (a == "--list-methods")
+        {
+            // The methods a run without --methods measures: the library's list.
+            const nrd::LibraryDesc& lib = nrd::GetLibraryDesc();
+            for (uint32_t m = 0; m < lib.supportedMethodsNum; m++)
+                std::printf("%s\n", nrd::GetMethodString(lib.supportedMethods[m]));
             return 0;
         }
         if (a == "--quiet")
@@ -302,6 +313,21 @@ int main(int argc, char** argv)
     auto pastDeadline = [&] {
         return deadlineS && std::chrono::steady_clock::now() - start > std::chrono::seconds(deadlineS);
     };
+    // One instance and device for every run of the process: drivers keep state per instance and
+    // device that they do not all give back (a batch that created one context per run stopped on
+    // the H100 with VK_ERROR_INCOMPATIBLE_DRIVER after some thirty of them).
+    nrd::lab::VulkanContext context;
+    {
+        nrd::lab::VulkanContextDesc desc;
+        desc.deviceIndex = device;
+        desc.quiet = true;
+        desc.applicationName = "nrd-bench";
+        if (context.Create(desc) != VK_SUCCESS)
+        {
+            std::fprintf(stderr, "error: could not create a Vulkan device (index %d)\n", device);
+            return 1;
+        }
+    }
     for (size_t k = 0; k < report.results.size() && !pastDeadline(); k++)
     {
         nrdbench::SettingResult& r = report.results[k];
@@ -311,6 +337,7 @@ int main(int argc, char** argv)
         base.frames = frames;
         base.truthSpp = truthSpp;
         base.device = device;
+        base.context = &context;
         base.keepImages = false;
         std::string error;
 

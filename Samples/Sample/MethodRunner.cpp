@@ -466,16 +466,27 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             return false;
     }
 
-    nrd::lab::VulkanContextDesc vkDesc;
-    vkDesc.enableValidation = o.validation;
-    vkDesc.deviceIndex = o.device;
-    vkDesc.quiet = true;
-    nrd::lab::VulkanContext vk;
-    if (vk.Create(vkDesc) != VK_SUCCESS)
+    nrd::lab::VulkanContext ownContext;
+    if (!o.context)
     {
-        error = "could not create a Vulkan device (index " + std::to_string(o.device) + ")";
+        nrd::lab::VulkanContextDesc vkDesc;
+        vkDesc.enableValidation = o.validation;
+        vkDesc.deviceIndex = o.device;
+        vkDesc.quiet = true;
+        if (ownContext.Create(vkDesc) != VK_SUCCESS)
+        {
+            error = "could not create a Vulkan device (index " + std::to_string(o.device) + ")";
+            return false;
+        }
+    }
+    nrd::lab::VulkanContext& vk = o.context ? *o.context : ownContext;
+    if (!vk.GetVkDevice())
+    {
+        error = "the given Vulkan context is not created";
         return false;
     }
+    // A shared context counts the messages of earlier runs too.
+    const uint32_t validationMessagesBefore = vk.ValidationMessageCount();
 
     SceneLabDesc labDesc;
     labDesc.cacheDirectory = o.cacheDirectory == "none" ? "" : (o.cacheDirectory.empty() ? GetDefaultCacheDirectory() : o.cacheDirectory);
@@ -865,7 +876,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     if (o.timing.skipQuality)
     {
         report.perFrame.clear();
-        report.validationMessages = vk.ValidationMessageCount();
+        report.validationMessages = vk.ValidationMessageCount() - validationMessagesBefore;
         return !(o.validation && report.validationMessages);
     }
 
@@ -935,7 +946,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     report.lagFrames = lag.frames;
     report.lagEventFrame = lag.eventFrame;
 
-    report.validationMessages = vk.ValidationMessageCount();
+    report.validationMessages = vk.ValidationMessageCount() - validationMessagesBefore;
     if (o.validation && report.validationMessages)
     {
         error = std::to_string(report.validationMessages) + " validation messages";

@@ -10,6 +10,14 @@
 #include <string>
 #include <vector>
 
+namespace nrd
+{
+namespace lab
+{
+class VulkanContext;
+}
+} // namespace nrd
+
 namespace nrdlab
 {
 
@@ -53,6 +61,11 @@ struct RunOptions
     uint32_t warmup = 8;            // Frames excluded from the averages.
     int32_t device = -1;            // Vulkan physical device index; -1: first discrete GPU, else first.
     bool validation = false;        // VK_LAYER_KHRONOS_validation; messages fail the run.
+    // (Optional) Run on this context instead of creating one ('device' and 'validation' are then
+    // the context's). A process that runs many methods (nrd-bench) creates one context for all of
+    // them: every instance and device a driver creates and destroys costs it state that not every
+    // driver gives back (the H100's driver refused new instances after a few dozen).
+    nrd::lab::VulkanContext* context = nullptr;
     std::string settingsJson;       // (Optional) JSON text with "common", "sigma", "reference", "tiledShadow".
     std::string cacheDirectory;     // Scene-lab frame cache; empty: the default one; "none": off.
     bool keepImages = true;         // Keep the last frame's noisy / denoised / truth images in the report.
