@@ -299,7 +299,8 @@ TEST_CASE("Contexts created and destroyed one after the other leave no file, thr
 TEST_CASE("Error runs of every family in one process share one context and leave nothing behind", "[bench]")
 {
     // One method per family the runner knows (a new family's methods run through the same path).
-    const std::vector<std::string> methods = {"SIGMA_SHADOW", "TILED_SHADOW", "REFERENCE", "REBLUR_DIFFUSE_SPECULAR"};
+    const std::vector<std::string> methods = {"SIGMA_SHADOW", "TILED_SHADOW", "REFERENCE", "REBLUR_DIFFUSE_SPECULAR",
+                                             "CONFIDENCE"};
     lab::VulkanContextDesc desc;
     desc.quiet = true;
     lab::VulkanContext context;
