@@ -300,7 +300,7 @@ TEST_CASE("Error runs of every family in one process share one context and leave
 {
     // One method per family the runner knows (a new family's methods run through the same path).
     const std::vector<std::string> methods = {"SIGMA_SHADOW", "TILED_SHADOW", "REFERENCE", "REBLUR_DIFFUSE_SPECULAR",
-                                             "CONFIDENCE"};
+                                             "CONFIDENCE", "REFLECTION"};
     lab::VulkanContextDesc desc;
     desc.quiet = true;
     lab::VulkanContext context;
