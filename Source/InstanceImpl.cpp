@@ -1,9 +1,15 @@
 #include "InstanceImpl.h"
 #include "ShaderTable.h"
 
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstring>
 
 namespace nrd
 {
@@ -21,80 +27,37 @@ void Logger::Error(const char* format, ...) const
 }
 
 //==================================================================================================
-// Double-precision matrix helpers (column-major, m[column * 4 + row]).
+// Double-precision matrix helpers on GLM (column-major, as the API's matrices).
 //==================================================================================================
 
 namespace
 {
 
-struct Mat4d
+glm::dmat4 ToDouble(const float* f)
 {
-    double m[16];
-};
-
-Mat4d ToDouble(const float* f)
-{
-    Mat4d r;
-    for (int i = 0; i < 16; i++)
-        r.m[i] = f[i];
-    return r;
+    return glm::dmat4(glm::make_mat4(f));
 }
 
-glsl::mat4 ToFloat(const Mat4d& d)
+glsl::mat4 ToFloat(const glm::dmat4& d)
 {
+    const glm::mat4 f(d);
     glsl::mat4 r;
-    for (int i = 0; i < 16; i++)
-        r.m[i] = float(d.m[i]);
+    std::memcpy(r.m, glm::value_ptr(f), sizeof(r.m));
     return r;
 }
 
-Mat4d Multiply(const Mat4d& a, const Mat4d& b)
+// Inverse of 'src', or false if it is singular relative to its scale: |det| against the product
+// of the column lengths (which |det| reaches for orthogonal columns), so that a large translation
+// (a camera far from the origin) does not make a rigid transform "singular".
+bool Invert(const glm::dmat4& src, glm::dmat4& dst)
 {
-    Mat4d r;
-    for (int c = 0; c < 4; c++)
-        for (int row = 0; row < 4; row++)
-        {
-            double s = 0.0;
-            for (int k = 0; k < 4; k++)
-                s += a.m[k * 4 + row] * b.m[c * 4 + k];
-            r.m[c * 4 + row] = s;
-        }
-    return r;
-}
-
-// General 4x4 inverse by cofactors; returns false if singular relative to the matrix scale.
-bool Invert(const Mat4d& src, Mat4d& dst)
-{
-    const double* m = src.m;
-    double inv[16];
-    inv[0] = m[5] * m[10] * m[15] - m[5] * m[11] * m[14] - m[9] * m[6] * m[15] + m[9] * m[7] * m[14] + m[13] * m[6] * m[11] - m[13] * m[7] * m[10];
-    inv[4] = -m[4] * m[10] * m[15] + m[4] * m[11] * m[14] + m[8] * m[6] * m[15] - m[8] * m[7] * m[14] - m[12] * m[6] * m[11] + m[12] * m[7] * m[10];
-    inv[8] = m[4] * m[9] * m[15] - m[4] * m[11] * m[13] - m[8] * m[5] * m[15] + m[8] * m[7] * m[13] + m[12] * m[5] * m[11] - m[12] * m[7] * m[9];
-    inv[12] = -m[4] * m[9] * m[14] + m[4] * m[10] * m[13] + m[8] * m[5] * m[14] - m[8] * m[6] * m[13] - m[12] * m[5] * m[10] + m[12] * m[6] * m[9];
-    inv[1] = -m[1] * m[10] * m[15] + m[1] * m[11] * m[14] + m[9] * m[2] * m[15] - m[9] * m[3] * m[14] - m[13] * m[2] * m[11] + m[13] * m[3] * m[10];
-    inv[5] = m[0] * m[10] * m[15] - m[0] * m[11] * m[14] - m[8] * m[2] * m[15] + m[8] * m[3] * m[14] + m[12] * m[2] * m[11] - m[12] * m[3] * m[10];
-    inv[9] = -m[0] * m[9] * m[15] + m[0] * m[11] * m[13] + m[8] * m[1] * m[15] - m[8] * m[3] * m[13] - m[12] * m[1] * m[11] + m[12] * m[3] * m[9];
-    inv[13] = m[0] * m[9] * m[14] - m[0] * m[10] * m[13] - m[8] * m[1] * m[14] + m[8] * m[2] * m[13] + m[12] * m[1] * m[10] - m[12] * m[2] * m[9];
-    inv[2] = m[1] * m[6] * m[15] - m[1] * m[7] * m[14] - m[5] * m[2] * m[15] + m[5] * m[3] * m[14] + m[13] * m[2] * m[7] - m[13] * m[3] * m[6];
-    inv[6] = -m[0] * m[6] * m[15] + m[0] * m[7] * m[14] + m[4] * m[2] * m[15] - m[4] * m[3] * m[14] - m[12] * m[2] * m[7] + m[12] * m[3] * m[6];
-    inv[10] = m[0] * m[5] * m[15] - m[0] * m[7] * m[13] - m[4] * m[1] * m[15] + m[4] * m[3] * m[13] + m[12] * m[1] * m[7] - m[12] * m[3] * m[5];
-    inv[14] = -m[0] * m[5] * m[14] + m[0] * m[6] * m[13] + m[4] * m[1] * m[14] - m[4] * m[2] * m[13] - m[12] * m[1] * m[6] + m[12] * m[2] * m[5];
-    inv[3] = -m[1] * m[6] * m[11] + m[1] * m[7] * m[10] + m[5] * m[2] * m[11] - m[5] * m[3] * m[10] - m[9] * m[2] * m[7] + m[9] * m[3] * m[6];
-    inv[7] = m[0] * m[6] * m[11] - m[0] * m[7] * m[10] - m[4] * m[2] * m[11] + m[4] * m[3] * m[10] + m[8] * m[2] * m[7] - m[8] * m[3] * m[6];
-    inv[11] = -m[0] * m[5] * m[11] + m[0] * m[7] * m[9] + m[4] * m[1] * m[11] - m[4] * m[3] * m[9] - m[8] * m[1] * m[7] + m[8] * m[3] * m[5];
-    inv[15] = m[0] * m[5] * m[10] - m[0] * m[6] * m[9] - m[4] * m[1] * m[10] + m[4] * m[2] * m[9] + m[8] * m[1] * m[6] - m[8] * m[2] * m[5];
-
-    double det = m[0] * inv[0] + m[1] * inv[4] + m[2] * inv[8] + m[3] * inv[12];
-    // Relative to the product of the column lengths (|det| reaches it for orthogonal columns), so a
-    // large translation (a camera far from the origin) does not make a rigid transform "singular".
+    const double det = glm::determinant(src);
     double scale = 1.0;
     for (int c = 0; c < 4; c++)
-        scale *= std::sqrt(m[c * 4] * m[c * 4] + m[c * 4 + 1] * m[c * 4 + 1] + m[c * 4 + 2] * m[c * 4 + 2] +
-                           m[c * 4 + 3] * m[c * 4 + 3]);
+        scale *= glm::length(src[c]);
     if (!std::isfinite(det) || !std::isfinite(scale) || scale == 0.0 || std::fabs(det) <= 1e-12 * scale)
         return false;
-    for (int i = 0; i < 16; i++)
-        dst.m[i] = inv[i] / det;
+    dst = glm::inverse(src);
     return true;
 }
 
@@ -466,7 +429,7 @@ Result InstanceImpl::SetCommonSettings(const CommonSettings& s)
             return Result::INVALID_ARGUMENT;
         }
     }
-    Mat4d viewToWorld, viewToWorldPrev;
+    glm::dmat4 viewToWorld, viewToWorldPrev;
     if (!Invert(ToDouble(s.worldToViewMatrix), viewToWorld) || !Invert(ToDouble(s.worldToViewMatrixPrev), viewToWorldPrev))
     {
         m_Log.Error("SetCommonSettings: worldToViewMatrix or worldToViewMatrixPrev is singular");
@@ -524,15 +487,15 @@ Result InstanceImpl::SetCommonSettings(const CommonSettings& s)
     f.viewToWorld = ToFloat(viewToWorld);
     f.viewToClip = ToFloat(ToDouble(s.viewToClipMatrix));
     f.worldToViewPrev = ToFloat(ToDouble(s.worldToViewMatrixPrev));
-    f.worldToClipPrev = ToFloat(Multiply(ToDouble(s.viewToClipMatrixPrev), ToDouble(s.worldToViewMatrixPrev)));
+    f.worldToClipPrev = ToFloat(ToDouble(s.viewToClipMatrixPrev) * ToDouble(s.worldToViewMatrixPrev));
     // Clip -> previous clip from double products, so large world coordinates cancel before anything
     // is rounded to float: viewToClipPrev * worldToViewPrev * viewToWorld * inverse(viewToClip).
-    Mat4d clipToView;
+    glm::dmat4 clipToView;
     f.isClipToClipPrevValid = Invert(ToDouble(s.viewToClipMatrix), clipToView);
     if (f.isClipToClipPrevValid)
     {
-        Mat4d viewToViewPrev = Multiply(ToDouble(s.worldToViewMatrixPrev), viewToWorld);
-        f.clipToClipPrev = ToFloat(Multiply(Multiply(ToDouble(s.viewToClipMatrixPrev), viewToViewPrev), clipToView));
+        const glm::dmat4 viewToViewPrev = ToDouble(s.worldToViewMatrixPrev) * viewToWorld;
+        f.clipToClipPrev = ToFloat(ToDouble(s.viewToClipMatrixPrev) * viewToViewPrev * clipToView);
     }
     else
         f.clipToClipPrev = glsl::mat4{{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}};

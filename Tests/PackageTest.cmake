@@ -93,6 +93,16 @@ foreach(f ${files})
     endforeach()
 endforeach()
 
+# GLM is a private, build-time dependency of the core: no installed CMake file may ask for it.
+foreach(f ${files})
+    if(f MATCHES "\\.cmake$")
+        file(STRINGS ${sdk}/${f} hits LIMIT_COUNT 1 REGEX "glm")
+        if(hits)
+            message(FATAL_ERROR "${f} names GLM, a private build-time dependency of the core (${hits})")
+        endif()
+    endif()
+endforeach()
+
 # Reproducible archives: every member of a static library carries time 0 (deterministic mode), so
 # two builds of the same sources give the same bytes. Each 60-byte member header holds its time at
 # bytes 16..27, in decimal ASCII padded with spaces.
@@ -129,6 +139,9 @@ if(NOT build_log MATCHES "nrd\\.h")
 endif()
 if(build_log MATCHES "vulkan")
     message(FATAL_ERROR "core-only consumer: Vulkan appears in its build (include path, headers or link line):\n${step_output}")
+endif()
+if(build_log MATCHES "glm")
+    message(FATAL_ERROR "core-only consumer: GLM appears in its build (the core uses it privately):\n${step_output}")
 endif()
 foreach(exe nrd_example_core nrd_example_core_shared)
     file(GET_RUNTIME_DEPENDENCIES EXECUTABLES ${WORK_DIR}/core/${exe} RESOLVED_DEPENDENCIES_VAR resolved

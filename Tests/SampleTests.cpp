@@ -115,9 +115,19 @@ TEST_CASE("SIGMA runs on every built-in scene and never does worse than its inpu
         WARN(scene << ": relMSE " << r.mean.relmseNoisy << " -> " << r.mean.relmseDenoised << ", FLIP " << r.mean.flipNoisy
                    << " -> " << r.mean.flipDenoised << ", instability " << r.mean.temporalInstabilityNoisy << " -> "
                    << r.mean.temporalInstabilityDenoised << (isKnownShortfall ? " (known shortfall)" : ""));
+        // The report names each mesh of the scene once, with its BVH and build time.
+        const bool isMeshScene = scene.rfind("mesh_", 0) == 0;
+        CHECK(r.meshes.size() == (isMeshScene ? 1u : 0u));
+        for (const nrdlab::RunReport::MeshInfo& m : r.meshes)
+        {
+            CHECK(m.triangles > 1000u);
+            CHECK(m.bvhNodes > m.triangles / 16); // Leaves hold at most 16 triangles.
+            CHECK(m.bvhDepth > 0u);
+            CHECK(m.bvhBuildMs > 0.0);
+        }
         if (isKnownShortfall)
             continue;
-        if (scene.rfind("mesh_", 0) == 0)
+        if (isMeshScene)
         {
             // Real meshes: SIGMA falls short of "never worse" on thin occluders and sub-pixel
             // penumbrae (Shaders/Sigma/README.md, "Triangle-mesh scenes", says where and why). These

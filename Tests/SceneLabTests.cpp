@@ -4,10 +4,12 @@
 #include <catch2/catch.hpp>
 
 #include "Mesh.h"
-#include <glm/geometric.hpp>
 #include "Metrics.h"
 #include "SceneLab.h"
 #include "VulkanContext.h"
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -255,7 +257,7 @@ TEST_CASE("a world point projects to the pixel where the path tracer sees it", "
         const Object& o = scene.objects[i];
         if (o.type != PrimitiveType::SPHERE)
             continue;
-        Float3 c = o.position.value;
+        glm::vec3 c = o.position.value;
         float d[3] = {f.camera.position[0] - c.x, f.camera.position[1] - c.y, f.camera.position[2] - c.z};
         float len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
         probes.push_back({{c.x + o.radius * d[0] / len, c.y + o.radius * d[1] / len, c.z + o.radius * d[2] / len},
@@ -828,6 +830,29 @@ f 1//6 4//6 3//6 2//6
 
 const std::string kEngine = "glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
 
+// Rays from a sphere around the model towards random points inside its bounds (most hit), every
+// 4th one short (tMax inside the model). Deterministic.
+std::vector<SceneLab::MeshRay> RandomMeshRays(const MeshData& mesh, int rayNum)
+{
+    const glm::vec3 centre = 0.5f * (mesh.boundsMin + mesh.boundsMax);
+    const float radius = glm::length(mesh.boundsMax - mesh.boundsMin);
+    uint32_t rng = 12345u;
+    auto next = [&]() {
+        rng = rng * 1664525u + 1013904223u;
+        return float(rng >> 8) / 16777216.0f;
+    };
+    std::vector<SceneLab::MeshRay> rays(static_cast<size_t>(rayNum));
+    for (int r = 0; r < rayNum; r++)
+    {
+        glm::vec3 dir = glm::normalize(glm::vec3(next() - 0.5f, next() - 0.5f, next() - 0.5f) + 1e-6f);
+        rays[size_t(r)].origin = centre - dir * radius;
+        glm::vec3 target = mesh.boundsMin + (mesh.boundsMax - mesh.boundsMin) * glm::vec3(next(), next(), next());
+        rays[size_t(r)].direction = glm::normalize(target - rays[size_t(r)].origin);
+        rays[size_t(r)].tMax = r % 4 == 3 ? radius * next() * 1.5f : 1e30f;
+    }
+    return rays;
+}
+
 } // namespace
 
 TEST_CASE("bad model files give an error naming the file, never a crash", "[scenelab][mesh]")
@@ -895,27 +920,14 @@ TEST_CASE("BVH traversal equals brute-force intersection on random rays over a l
                 seen[i]++;
         CHECK(std::count(seen.begin(), seen.end(), 1) == ptrdiff_t(seen.size()));
 
-        // Rays from a sphere around the model towards random points inside its bounds (most hit),
-        // and some short ones (tMax inside the model).
-        const glm::vec3 centre = 0.5f * (mesh.boundsMin + mesh.boundsMax);
-        const float radius = glm::length(mesh.boundsMax - mesh.boundsMin);
-        uint32_t rng = 12345u;
-        auto next = [&]() {
-            rng = rng * 1664525u + 1013904223u;
-            return float(rng >> 8) / 16777216.0f;
-        };
         uint32_t hits = 0;
         const int rayNum = 3000;
+        const std::vector<SceneLab::MeshRay> rays = RandomMeshRays(mesh, rayNum);
         for (int r = 0; r < rayNum; r++)
         {
-            glm::vec3 dir = glm::normalize(glm::vec3(next() - 0.5f, next() - 0.5f, next() - 0.5f) + 1e-6f);
-            glm::vec3 o = centre - dir * radius;
-            glm::vec3 target = mesh.boundsMin + (mesh.boundsMax - mesh.boundsMin) *
-                                                    glm::vec3(next(), next(), next());
-            glm::vec3 d = glm::normalize(target - o);
-            float tMax = r % 4 == 3 ? radius * next() * 1.5f : 1e30f;
-            MeshHit bvh = IntersectMesh(mesh, o, d, 0.0f, tMax, true);
-            MeshHit brute = IntersectMesh(mesh, o, d, 0.0f, tMax, false);
+            const SceneLab::MeshRay& ray = rays[size_t(r)];
+            MeshHit bvh = IntersectMesh(mesh, ray.origin, ray.direction, 0.0f, ray.tMax, true);
+            MeshHit brute = IntersectMesh(mesh, ray.origin, ray.direction, 0.0f, ray.tMax, false);
             INFO("ray " << r);
             REQUIRE(bvh.triangle == brute.triangle);
             if (brute.triangle >= 0)
@@ -926,6 +938,66 @@ TEST_CASE("BVH traversal equals brute-force intersection on random rays over a l
         }
         CHECK(hits > rayNum / 4);
     }
+}
+
+TEST_CASE("the GPU BVH traversal hits the triangle a CPU brute force hits on random rays over a real model",
+          "[scenelab][mesh][vulkan]")
+{
+    Scene scene = LoadBuiltin("mesh_engine");
+    uint32_t engine = 0;
+    while (engine < scene.objects.size() && scene.objects[engine].type != PrimitiveType::MESH)
+        engine++;
+    REQUIRE(engine < scene.objects.size());
+    const MeshData& mesh = *scene.objects[engine].mesh;
+    REQUIRE(mesh.triangles.size() > 100000);
+
+    // Closest-hit rays, and every 8th one any-hit (what shadow rays ask).
+    const int rayNum = 2048;
+    std::vector<SceneLab::MeshRay> rays = RandomMeshRays(mesh, rayNum);
+    for (int r = 5; r < rayNum; r += 8)
+        rays[size_t(r)].anyHit = true;
+    std::vector<MeshHit> gpu;
+    std::string error;
+    INFO(error);
+    REQUIRE(Lab().TraceMeshRays(scene, engine, rays, gpu, error));
+    REQUIRE(gpu.size() == rays.size());
+
+    uint32_t hits = 0, anyHits = 0;
+    for (int r = 0; r < rayNum; r++)
+    {
+        const SceneLab::MeshRay& ray = rays[size_t(r)];
+        const MeshHit& g = gpu[size_t(r)];
+        const MeshHit brute = IntersectMesh(mesh, ray.origin, ray.direction, 0.0f, ray.tMax, false);
+        INFO("ray " << r << (ray.anyHit ? " (any hit)" : "") << ": GPU triangle " << g.triangle << " t " << g.t
+                    << ", CPU triangle " << brute.triangle << " t " << brute.t);
+        REQUIRE((g.triangle >= 0) == (brute.triangle >= 0));
+        if (brute.triangle < 0)
+            continue;
+        REQUIRE(size_t(g.triangle) < mesh.triangles.size());
+        if (ray.anyHit)
+        {
+            // Any triangle on the ray before tMax will do: the one reported must be hit at its t.
+            MeshData one;
+            one.triangles = {mesh.triangles[size_t(g.triangle)]};
+            const MeshHit check = IntersectMesh(one, ray.origin, ray.direction, 0.0f, ray.tMax, false);
+            REQUIRE(check.triangle == 0);
+            CHECK(std::fabs(g.t - check.t) <= 1e-5f * check.t);
+            anyHits++;
+            continue;
+        }
+        // The same triangle, t and barycentrics to float rounding (the device may fuse multiply-adds).
+        REQUIRE(g.triangle == brute.triangle);
+        CHECK(std::fabs(g.t - brute.t) <= 1e-5f * brute.t);
+        CHECK(std::fabs(g.u - brute.u) <= 1e-4f);
+        CHECK(std::fabs(g.v - brute.v) <= 1e-4f);
+        hits++;
+    }
+    CHECK(hits > uint32_t(rayNum) / 4);
+    CHECK(anyHits > uint32_t(rayNum) / 32);
+
+    // Not a mesh: refused with a message.
+    CHECK_FALSE(Lab().TraceMeshRays(scene, engine == 0 ? 1 : 0, rays, gpu, error));
+    CHECK(error.find("is not a mesh") != std::string::npos);
 }
 
 TEST_CASE("a mesh and the equivalent procedural box render the same G-buffer", "[scenelab][mesh][vulkan]")
@@ -1003,12 +1075,9 @@ TEST_CASE("the GPU traversal sees what the CPU brute force sees through every pi
             glm::vec3 dir = glm::normalize(glm::vec3(V[0], V[4], V[8]) * dv.x + glm::vec3(V[1], V[5], V[9]) * dv.y +
                                            glm::vec3(V[2], V[6], V[10]) * dv.z);
             glm::vec3 origin(f.camera.position[0], f.camera.position[1], f.camera.position[2]);
-            glm::vec3 rel = origin - glm::vec3(os.position.x, os.position.y, os.position.z);
-            const float* R = os.rotation; // world-from-local rows: local = R^T world
-            glm::vec3 lo(R[0] * rel.x + R[3] * rel.y + R[6] * rel.z, R[1] * rel.x + R[4] * rel.y + R[7] * rel.z,
-                         R[2] * rel.x + R[5] * rel.y + R[8] * rel.z);
-            glm::vec3 ld(R[0] * dir.x + R[3] * dir.y + R[6] * dir.z, R[1] * dir.x + R[4] * dir.y + R[7] * dir.z,
-                         R[2] * dir.x + R[5] * dir.y + R[8] * dir.z);
+            const glm::mat3 localFromWorld = glm::transpose(os.rotation); // a rotation's inverse
+            glm::vec3 lo = localFromWorld * (origin - os.position);
+            glm::vec3 ld = localFromWorld * dir;
             MeshHit hit = IntersectMesh(*o.mesh, lo, ld, 0.0f, 1e30f, false);
             bool gpuEngine = f.objectIndex.at(x, y, 0) == float(engine);
             if (!gpuEngine && hit.triangle < 0)

@@ -1,6 +1,13 @@
 // Metrics.cpp - see Metrics.h for the contract of every public function.
 #include "Metrics.h"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -198,88 +205,51 @@ double PsnrImpl(const Image& test, const Image& ref, bool toneMap)
 // ---------------------------------------------------------------------------
 // FLIP (LDR), after Andersson et al. 2020.
 
-struct Vec3
-{
-    double v[3];
-};
-
-struct Mat3
-{
-    double m[3][3];
-
-    Vec3 operator*(const Vec3& x) const
-    {
-        Vec3 r{};
-        for (int i = 0; i < 3; ++i)
-            r.v[i] = m[i][0] * x.v[0] + m[i][1] * x.v[1] + m[i][2] * x.v[2];
-        return r;
-    }
-};
-
-Mat3 Inverse(const Mat3& a)
-{
-    const auto& m = a.m;
-    const double det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) -
-                       m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-                       m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    Mat3 r{};
-    r.m[0][0] = (m[1][1] * m[2][2] - m[1][2] * m[2][1]) / det;
-    r.m[0][1] = (m[0][2] * m[2][1] - m[0][1] * m[2][2]) / det;
-    r.m[0][2] = (m[0][1] * m[1][2] - m[0][2] * m[1][1]) / det;
-    r.m[1][0] = (m[1][2] * m[2][0] - m[1][0] * m[2][2]) / det;
-    r.m[1][1] = (m[0][0] * m[2][2] - m[0][2] * m[2][0]) / det;
-    r.m[1][2] = (m[0][2] * m[1][0] - m[0][0] * m[1][2]) / det;
-    r.m[2][0] = (m[1][0] * m[2][1] - m[1][1] * m[2][0]) / det;
-    r.m[2][1] = (m[0][1] * m[2][0] - m[0][0] * m[2][1]) / det;
-    r.m[2][2] = (m[0][0] * m[1][1] - m[0][1] * m[1][0]) / det;
-    return r;
-}
-
 // Linear sRGB (D65) -> CIE XYZ, written as exact ratios of the sRGB primaries.
-const Mat3 kRgbToXyz = {{{10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0},
-                         {2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0},
-                         {1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0}}};
-const Mat3 kXyzToRgb = Inverse(kRgbToXyz);
+// Written row by row (GLM's constructor takes columns, hence the transpose).
+const glm::dmat3 kRgbToXyz = glm::transpose(
+    glm::dmat3(10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0,
+               2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0,
+               1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0));
+const glm::dmat3 kXyzToRgb = glm::inverse(kRgbToXyz);
 // Reference white (D65): XYZ of linear RGB (1, 1, 1); its Y is 1.
-const Vec3 kWhite = kRgbToXyz * Vec3{{1.0, 1.0, 1.0}};
+const glm::dvec3 kWhite = kRgbToXyz * glm::dvec3(1.0);
 
 // Linear RGB -> YCxCz (opponent space of the FLIP paper).
-Vec3 RgbToYcxcz(const Vec3& rgb)
+glm::dvec3 RgbToYcxcz(const glm::dvec3& rgb)
 {
-    const Vec3 xyz = kRgbToXyz * rgb;
-    const double xn = xyz.v[0] / kWhite.v[0], yn = xyz.v[1] / kWhite.v[1], zn = xyz.v[2] / kWhite.v[2];
-    return Vec3{{116.0 * yn - 16.0, 500.0 * (xn - yn), 200.0 * (yn - zn)}};
+    const glm::dvec3 n = kRgbToXyz * rgb / kWhite;
+    return glm::dvec3(116.0 * n.y - 16.0, 500.0 * (n.x - n.y), 200.0 * (n.y - n.z));
 }
 
-Vec3 YcxczToRgb(const Vec3& ycc)
+glm::dvec3 YcxczToRgb(const glm::dvec3& ycc)
 {
-    const double yn = (ycc.v[0] + 16.0) / 116.0;
-    const double xn = yn + ycc.v[1] / 500.0;
-    const double zn = yn - ycc.v[2] / 200.0;
-    return kXyzToRgb * Vec3{{xn * kWhite.v[0], yn * kWhite.v[1], zn * kWhite.v[2]}};
+    const double yn = (ycc.x + 16.0) / 116.0;
+    const double xn = yn + ycc.y / 500.0;
+    const double zn = yn - ycc.z / 200.0;
+    return kXyzToRgb * (glm::dvec3(xn, yn, zn) * kWhite);
 }
 
 // Linear RGB -> CIE L*a*b* (D65) -> Hunt-adjusted (a, b scaled by 0.01 L).
-Vec3 RgbToHuntLab(const Vec3& rgb)
+glm::dvec3 RgbToHuntLab(const glm::dvec3& rgb)
 {
-    const Vec3 xyz = kRgbToXyz * rgb;
+    const glm::dvec3 xyz = kRgbToXyz * rgb;
     constexpr double kDelta = 6.0 / 29.0;
-    double f[3];
+    glm::dvec3 f;
     for (int i = 0; i < 3; ++i)
     {
-        const double t = xyz.v[i] / kWhite.v[i];
+        const double t = xyz[i] / kWhite[i];
         f[i] = t > kDelta * kDelta * kDelta ? std::cbrt(t) : t / (3.0 * kDelta * kDelta) + 4.0 / 29.0;
     }
-    const double L = 116.0 * f[1] - 16.0;
-    const double a = 500.0 * (f[0] - f[1]);
-    const double b = 200.0 * (f[1] - f[2]);
-    return Vec3{{L, 0.01 * L * a, 0.01 * L * b}};
+    const double L = 116.0 * f.y - 16.0;
+    const double a = 500.0 * (f.x - f.y);
+    const double b = 200.0 * (f.y - f.z);
+    return glm::dvec3(L, 0.01 * L * a, 0.01 * L * b);
 }
 
-double HyAB(const Vec3& p, const Vec3& q)
+double HyAB(const glm::dvec3& p, const glm::dvec3& q)
 {
-    const double da = p.v[1] - q.v[1], db = p.v[2] - q.v[2];
-    return std::abs(p.v[0] - q.v[0]) + std::sqrt(da * da + db * db);
+    return std::abs(p.x - q.x) + glm::length(glm::dvec2(p.y - q.y, p.z - q.z));
 }
 
 constexpr double kFlipQc = 0.7;
@@ -291,7 +261,7 @@ constexpr double kFlipPt = 0.95;
 double FlipCmax()
 {
     static const double cmax = std::pow(
-        HyAB(RgbToHuntLab(Vec3{{0.0, 1.0, 0.0}}), RgbToHuntLab(Vec3{{0.0, 0.0, 1.0}})), kFlipQc);
+        HyAB(RgbToHuntLab(glm::dvec3(0.0, 1.0, 0.0)), RgbToHuntLab(glm::dvec3(0.0, 0.0, 1.0))), kFlipQc);
     return cmax;
 }
 
@@ -433,10 +403,10 @@ FlipPrepared FlipPrepare(const Plane rgb[3], int w, int h, const std::vector<Csf
         ycc[c].resize(n);
     for (size_t i = 0; i < n; ++i)
     {
-        const Vec3 o = RgbToYcxcz(Vec3{{rgb[0][i], rgb[1][i], rgb[2][i]}});
+        const glm::dvec3 o = RgbToYcxcz(glm::dvec3(rgb[0][i], rgb[1][i], rgb[2][i]));
         for (int c = 0; c < 3; ++c)
-            ycc[c][i] = float(o.v[c]);
-        yNorm[i] = float((o.v[0] + 16.0) / 116.0);
+            ycc[c][i] = float(o[c]);
+        yNorm[i] = float((o.x + 16.0) / 116.0);
     }
 
     // Colour pipeline: CSF filtering per opponent channel.
@@ -457,12 +427,10 @@ FlipPrepared FlipPrepare(const Plane rgb[3], int w, int h, const std::vector<Csf
         out.lab[c].resize(n);
     for (size_t i = 0; i < n; ++i)
     {
-        Vec3 lin = YcxczToRgb(Vec3{{filtered[0][i], filtered[1][i], filtered[2][i]}});
-        for (double& v : lin.v)
-            v = std::min(std::max(v, 0.0), 1.0); // clamp to the RGB cube
-        const Vec3 lab = RgbToHuntLab(lin);
+        const glm::dvec3 lin = YcxczToRgb(glm::dvec3(filtered[0][i], filtered[1][i], filtered[2][i]));
+        const glm::dvec3 lab = RgbToHuntLab(glm::clamp(lin, 0.0, 1.0)); // clamped to the RGB cube
         for (int c = 0; c < 3; ++c)
-            out.lab[c][i] = float(lab.v[c]);
+            out.lab[c][i] = float(lab[c]);
     }
 
     // Feature pipeline on the unfiltered normalised luminance.
@@ -504,8 +472,8 @@ Image FlipMapImpl(const Image& test, const Image& ref, double ppd, bool toneMap)
     Image map(test.width, test.height, 1);
     for (size_t i = 0; i < map.pixels.size(); ++i)
     {
-        const double hyab = HyAB(Vec3{{t.lab[0][i], t.lab[1][i], t.lab[2][i]}},
-                                 Vec3{{r.lab[0][i], r.lab[1][i], r.lab[2][i]}});
+        const double hyab = HyAB(glm::dvec3(t.lab[0][i], t.lab[1][i], t.lab[2][i]),
+                                 glm::dvec3(r.lab[0][i], r.lab[1][i], r.lab[2][i]));
         const double colour = FlipRedistribute(std::pow(hyab, kFlipQc));
         const double df = std::max(std::abs(double(t.edge[i]) - double(r.edge[i])),
                                    std::abs(double(t.point[i]) - double(r.point[i])));

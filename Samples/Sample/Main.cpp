@@ -199,7 +199,11 @@ int main(int argc, char** argv)
                 r.dispatchesPerFrame, r.pipelines, double(r.memoryBytes) / (1024.0 * 1024.0));
     for (const auto& p : r.passMs)
         std::printf("  %-40s %8.3f ms\n", p.first.c_str(), p.second);
-    std::printf("scene lab: %.1f ms/frame noisy, %.1f ms/frame truth\n", r.renderNoisyMs, r.renderTruthMs);
+    std::printf("scene lab: %.1f ms/frame noisy, %.1f ms/frame truth (after the warm-up)\n", r.renderNoisyMs,
+                r.renderTruthMs);
+    for (const nrdlab::RunReport::MeshInfo& mesh : r.meshes)
+        std::printf("mesh %s: %u triangles, BVH of %u nodes (depth %u) built in %.1f ms\n", mesh.file.c_str(),
+                    mesh.triangles, mesh.bvhNodes, mesh.bvhDepth, mesh.bvhBuildMs);
     if (r.raysFullRate > 0.0)
         std::printf("rays traced: %.0f per frame of %.0f at full rate (%.1f%%, %.1f%% saved)\n", r.raysTraced,
                     r.raysFullRate, 100.0 * r.rayRatio, 100.0 * (1.0 - r.rayRatio));

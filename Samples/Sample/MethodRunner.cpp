@@ -453,6 +453,14 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     Scene scene;
     if (!LoadScene(o.scene, scene, error))
         return false;
+    for (const Object& object : scene.objects)
+    {
+        if (!object.mesh || std::any_of(report.meshes.begin(), report.meshes.end(),
+                                        [&](const RunReport::MeshInfo& m) { return m.file == object.mesh->file; }))
+            continue;
+        const MeshData& m = *object.mesh;
+        report.meshes.push_back({m.file, uint32_t(m.triangles.size()), uint32_t(m.nodes.size()), m.depth, m.buildMs});
+    }
 
     nrd::CommonSettings common;
     bool motion3d = true, motionNone = false;
@@ -552,7 +560,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     ReuseBounds bounds(std::vector<float>{kBoundAlphas[1], kBoundAlphas[0], kBoundAlphas[2]});
     std::vector<double> truthChange;
     std::map<std::string, double> passSum;
-    uint32_t timedFrames = 0;
+    uint32_t timedFrames = 0, renderTimedFrames = 0;
 
     // Timing only: the last frame's inputs suffice.
     for (uint32_t f = o.timing.skipQuality ? report.frames - 1 : 0; f < report.frames; f++)
@@ -569,8 +577,12 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         FrameData frame;
         if (!lab.Render(scene, params, frame, error))
             return false;
-        report.renderNoisyMs += frame.noisyMs;
-        report.renderTruthMs += frame.truthMs;
+        if (f >= report.warmup || o.timing.skipQuality)
+        {
+            report.renderNoisyMs += frame.noisyMs;
+            report.renderTruthMs += frame.truthMs;
+            renderTimedFrames++;
+        }
 
         Image noisy, truth, denoised;
         io.adapter->GetSignalImages(frame, io.signal, noisy, truth);
@@ -929,8 +941,8 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     report.gpuMsPerFrame = mean.gpuMs;
     for (auto& p : passSum)
         report.passMs.push_back({p.first, timedFrames ? p.second / timedFrames : 0.0});
-    report.renderNoisyMs /= report.frames;
-    report.renderTruthMs /= report.frames;
+    report.renderNoisyMs /= std::max(renderTimedFrames, 1u);
+    report.renderTruthMs /= std::max(renderTimedFrames, 1u);
     if (report.frames > report.warmup && report.raysFullRate > 0.0)
     {
         report.rayRatio = report.raysTraced / report.raysFullRate;
@@ -1014,6 +1026,10 @@ std::string ReportToJson(const RunReport& r)
         j["rays_full_rate_per_frame"] = r.raysFullRate;
         j["ray_ratio"] = r.rayRatio;
     }
+    j["meshes"] = nlohmann::json::array();
+    for (const RunReport::MeshInfo& m : r.meshes)
+        j["meshes"].push_back({{"file", m.file}, {"triangles", m.triangles}, {"bvh_nodes", m.bvhNodes},
+                               {"bvh_depth", m.bvhDepth}, {"bvh_build_ms", m.bvhBuildMs}});
     nlohmann::json passes = nlohmann::json::object();
     for (const auto& p : r.passMs)
         passes[p.first] = p.second;

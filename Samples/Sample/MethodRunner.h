@@ -134,7 +134,16 @@ struct RunReport
     int32_t lagEventFrame = -1;    // That change's frame, -1 if the truth never changes suddenly.
     std::vector<FrameMetrics> perFrame;
     std::vector<std::pair<std::string, double>> passMs; // Mean GPU time per dispatch name.
-    double renderNoisyMs = 0, renderTruthMs = 0;        // Scene-lab time per frame (wall, incl. cache).
+    double renderNoisyMs = 0, renderTruthMs = 0;        // Scene-lab time per frame (wall, incl. cache),
+                                                        // mean over the frames after the warm-up
+                                                        // (the lab creates its pipelines on first use).
+    struct MeshInfo
+    {
+        std::string file;
+        uint32_t triangles = 0, bvhNodes = 0, bvhDepth = 0;
+        double bvhBuildMs = 0;     // Once per process (LoadMeshShared).
+    };
+    std::vector<MeshInfo> meshes;  // The scene's triangle meshes, each once.
     // Methods that trace a ray list (MethodAdapter::IsRayListTraced), means over the frames after
     // the warm-up: rays the lab traced, rays of the full-rate input (one per non-sky pixel), ratio.
     double raysTraced = 0, raysFullRate = 0, rayRatio = 0;

@@ -5,6 +5,9 @@
 // metres. Angles in the JSON are degrees; everything here is in the units stated next to it.
 #pragma once
 
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -14,11 +17,6 @@ namespace nrdlab
 {
 
 struct MeshData; // Mesh.h
-
-struct Float3
-{
-    float x = 0.0f, y = 0.0f, z = 0.0f;
-};
 
 // ------------------------------------------------------------------------------------------------
 // Animation tracks
@@ -48,7 +46,7 @@ struct SwitchTrack
 };
 
 float Evaluate(const Track<float>& track, float frame);
-Float3 Evaluate(const Track<Float3>& track, float frame);
+glm::vec3 Evaluate(const Track<glm::vec3>& track, float frame);
 bool Evaluate(const SwitchTrack& track, float frame);
 
 // ------------------------------------------------------------------------------------------------
@@ -80,10 +78,10 @@ enum class LightType : uint32_t
 // mix(0.04, albedo, metalness); GGX with alpha = roughness^2 (roughness is NRD's linear roughness).
 struct Material
 {
-    Float3 albedo = {0.8f, 0.8f, 0.8f}; // [0, 1] each.
+    glm::vec3 albedo = {0.8f, 0.8f, 0.8f}; // [0, 1] each.
     float roughness = 0.5f;             // [0, 1].
     float metalness = 0.0f;             // [0, 1].
-    Float3 emission = {};               // Radiance emitted, >= 0, seen only by rays that hit it.
+    glm::vec3 emission = {};               // Radiance emitted, >= 0, seen only by rays that hit it.
 };
 
 struct Object
@@ -91,32 +89,32 @@ struct Object
     std::string name;
     PrimitiveType type = PrimitiveType::SPHERE;
     float radius = 0.5f;          // SPHERE.
-    Float3 size = {1, 1, 1};      // BOX: x, y, z extents; QUAD: x and z extents (y unused).
+    glm::vec3 size = {1, 1, 1};      // BOX: x, y, z extents; QUAD: x and z extents (y unused).
     std::string file;             // MESH: the path as written in the scene.
-    Float3 scale = {1, 1, 1};     // MESH: per-axis scale of the model (constant, baked into 'mesh').
+    glm::vec3 scale = {1, 1, 1};     // MESH: per-axis scale of the model (constant, baked into 'mesh').
     std::shared_ptr<const MeshData> mesh; // MESH: the loaded triangles and their BVH (shared, immutable).
     Material material;
-    Track<Float3> position;       // World position of the local origin.
-    Track<Float3> rotation;       // Euler angles in degrees, applied about X, then Y, then Z.
+    Track<glm::vec3> position;       // World position of the local origin.
+    Track<glm::vec3> rotation;       // Euler angles in degrees, applied about X, then Y, then Z.
 };
 
 struct Light
 {
     std::string name;
     LightType type = LightType::SUN;
-    Track<Float3> direction;      // SUN: towards the light, normalized when evaluated.
-    Track<Float3> position;       // SPHERE, POINT.
+    Track<glm::vec3> direction;      // SUN: towards the light, normalized when evaluated.
+    Track<glm::vec3> position;       // SPHERE, POINT.
     float angularRadiusDeg = 0.27f; // SUN, [0, 30].
     float radius = 0.1f;          // SPHERE, > 0.
-    Track<Float3> intensity;      // RGB, >= 0 (units: see LightType).
+    Track<glm::vec3> intensity;      // RGB, >= 0 (units: see LightType).
     SwitchTrack enabled;          // A disabled light emits nothing and shadows everything.
 };
 
 struct CameraDesc
 {
-    Track<Float3> position;
-    Track<Float3> target;
-    Track<Float3> up;             // Need not be orthogonal to the view direction.
+    Track<glm::vec3> position;
+    Track<glm::vec3> target;
+    Track<glm::vec3> up;             // Need not be orthogonal to the view direction.
     Track<float> fovDeg;          // Vertical field of view, (0, 180).
     float nearZ = 0.1f;           // Near plane of viewToClip (viewZ of the depth value 1).
 };
@@ -126,9 +124,9 @@ struct CameraDesc
 // The sky lights the scene only through bounce rays (it is not sampled by next-event estimation).
 struct Sky
 {
-    Float3 zenith = {0.25f, 0.45f, 0.85f};
-    Float3 horizon = {0.7f, 0.8f, 0.95f};
-    Float3 ground = {0.3f, 0.28f, 0.25f};
+    glm::vec3 zenith = {0.25f, 0.45f, 0.85f};
+    glm::vec3 horizon = {0.7f, 0.8f, 0.95f};
+    glm::vec3 ground = {0.3f, 0.28f, 0.25f};
 };
 
 struct Scene
@@ -172,25 +170,25 @@ std::vector<std::string> GetBuiltinSceneNames();
 
 struct ObjectState
 {
-    Float3 position;
-    float rotation[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}; // World-from-local, row-major 3x3.
+    glm::vec3 position;
+    glm::mat3 rotation = glm::mat3(1.0f); // World-from-local (world = rotation * local + position).
 };
 
 struct LightState
 {
     LightType type = LightType::SUN;
-    Float3 direction;             // SUN: unit vector towards the light.
-    Float3 position;              // SPHERE, POINT.
+    glm::vec3 direction;             // SUN: unit vector towards the light.
+    glm::vec3 position;              // SPHERE, POINT.
     float radius = 0.0f;          // SPHERE.
     float tanAngularRadius = 0.0f; // SUN: tan(angular radius).
     float cosAngularRadius = 1.0f; // SUN: cos(angular radius).
-    Float3 intensity;             // Zero if disabled.
+    glm::vec3 intensity;             // Zero if disabled.
     bool enabled = true;
 };
 
 struct CameraState
 {
-    Float3 position, target, up;
+    glm::vec3 position, target, up;
     float fovDeg = 60.0f;
     float nearZ = 0.1f;
 };

@@ -1,8 +1,14 @@
 // SceneEval.cpp - keyframe evaluation, per-frame scene state and the camera matrices.
 #include "Scene.h"
 
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/trigonometric.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace nrdlab
 {
@@ -10,11 +16,10 @@ namespace nrdlab
 namespace
 {
 
-constexpr float kDegToRad = 0.017453292519943295f;
-
-Float3 Lerp(const Float3& a, const Float3& b, float t)
+// Written as a + (b - a) t, so that t = 0 and t = 1 give the keys exactly.
+glm::vec3 Lerp(const glm::vec3& a, const glm::vec3& b, float t)
 {
-    return {a.x + (b.x - a.x) * t, a.y + (b.y - a.y) * t, a.z + (b.z - a.z) * t};
+    return a + (b - a) * t;
 }
 
 float Lerp(float a, float b, float t)
@@ -39,43 +44,25 @@ T EvaluateTrack(const Track<T>& track, float frame)
     return Lerp(k[i - 1].value, k[i].value, t);
 }
 
-float Dot(const Float3& a, const Float3& b)
+// 'v' normalized, or 'fallback' where it has no direction.
+glm::vec3 NormalizeOr(const glm::vec3& v, const glm::vec3& fallback)
 {
-    return a.x * b.x + a.y * b.y + a.z * b.z;
+    const float len = glm::length(v);
+    return len > 1e-12f ? v / len : fallback;
 }
 
-Float3 Cross(const Float3& a, const Float3& b)
+// World-from-local rotation R = Rz * Ry * Rx (X applied first), angles in degrees.
+glm::mat3 EulerToMatrix(const glm::vec3& deg)
 {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-}
-
-Float3 Normalize(const Float3& v, const Float3& fallback)
-{
-    float len = std::sqrt(Dot(v, v));
-    return len > 1e-12f ? Float3{v.x / len, v.y / len, v.z / len} : fallback;
-}
-
-Float3 Sub(const Float3& a, const Float3& b)
-{
-    return {a.x - b.x, a.y - b.y, a.z - b.z};
-}
-
-// Row-major R = Rz * Ry * Rx (X applied first).
-void EulerToMatrix(const Float3& deg, float m[9])
-{
-    float cx = std::cos(deg.x * kDegToRad), sx = std::sin(deg.x * kDegToRad);
-    float cy = std::cos(deg.y * kDegToRad), sy = std::sin(deg.y * kDegToRad);
-    float cz = std::cos(deg.z * kDegToRad), sz = std::sin(deg.z * kDegToRad);
-    // Rx = [1 0 0; 0 cx -sx; 0 sx cx], Ry = [cy 0 sy; 0 1 0; -sy 0 cy], Rz = [cz -sz 0; sz cz 0; 0 0 1]
-    m[0] = cz * cy;
-    m[1] = cz * sy * sx - sz * cx;
-    m[2] = cz * sy * cx + sz * sx;
-    m[3] = sz * cy;
-    m[4] = sz * sy * sx + cz * cx;
-    m[5] = sz * sy * cx - cz * sx;
-    m[6] = -sy;
-    m[7] = cy * sx;
-    m[8] = cy * cx;
+    const glm::vec3 r = glm::radians(deg);
+    const float cx = std::cos(r.x), sx = std::sin(r.x);
+    const float cy = std::cos(r.y), sy = std::sin(r.y);
+    const float cz = std::cos(r.z), sz = std::sin(r.z);
+    // Column by column (GLM matrices are column-major).
+    const glm::mat3 rx(1.0f, 0.0f, 0.0f, 0.0f, cx, sx, 0.0f, -sx, cx);
+    const glm::mat3 ry(cy, 0.0f, -sy, 0.0f, 1.0f, 0.0f, sy, 0.0f, cy);
+    const glm::mat3 rz(cz, sz, 0.0f, -sz, cz, 0.0f, 0.0f, 0.0f, 1.0f);
+    return rz * ry * rx;
 }
 
 } // namespace
@@ -85,7 +72,7 @@ float Evaluate(const Track<float>& track, float frame)
     return EvaluateTrack(track, frame);
 }
 
-Float3 Evaluate(const Track<Float3>& track, float frame)
+glm::vec3 Evaluate(const Track<glm::vec3>& track, float frame)
 {
     return EvaluateTrack(track, frame);
 }
@@ -115,7 +102,7 @@ SceneState EvaluateScene(const Scene& scene, uint32_t frame)
     for (size_t i = 0; i < scene.objects.size(); i++)
     {
         s.objects[i].position = Evaluate(scene.objects[i].position, f);
-        EulerToMatrix(Evaluate(scene.objects[i].rotation, f), s.objects[i].rotation);
+        s.objects[i].rotation = EulerToMatrix(Evaluate(scene.objects[i].rotation, f));
     }
 
     s.lights.resize(scene.lights.size());
@@ -130,9 +117,9 @@ SceneState EvaluateScene(const Scene& scene, uint32_t frame)
             ls.intensity = {};
         if (l.type == LightType::SUN)
         {
-            ls.direction = Normalize(Evaluate(l.direction, f), {0, 1, 0});
-            ls.tanAngularRadius = std::tan(l.angularRadiusDeg * kDegToRad);
-            ls.cosAngularRadius = std::cos(l.angularRadiusDeg * kDegToRad);
+            ls.direction = NormalizeOr(Evaluate(l.direction, f), glm::vec3(0.0f, 1.0f, 0.0f));
+            ls.tanAngularRadius = std::tan(glm::radians(l.angularRadiusDeg));
+            ls.cosAngularRadius = std::cos(glm::radians(l.angularRadiusDeg));
         }
         else
         {
@@ -146,32 +133,27 @@ SceneState EvaluateScene(const Scene& scene, uint32_t frame)
 void ComputeCameraMatrices(const CameraState& camera, uint32_t width, uint32_t height, float worldToView[16],
                            float viewToClip[16])
 {
-    Float3 f = Normalize(Sub(camera.target, camera.position), {0, 0, -1});
-    Float3 up = Normalize(camera.up, {0, 1, 0});
-    if (std::fabs(Dot(f, up)) > 0.9999f) // Looking along 'up': any perpendicular will do.
-        up = std::fabs(f.y) < 0.9f ? Float3{0, 1, 0} : Float3{0, 0, 1};
-    Float3 r = Normalize(Cross(f, up), {1, 0, 0});
-    Float3 d = Cross(f, r); // Down: view space is x right, y down, z forward.
+    const glm::vec3 f = NormalizeOr(camera.target - camera.position, glm::vec3(0.0f, 0.0f, -1.0f));
+    glm::vec3 up = NormalizeOr(camera.up, glm::vec3(0.0f, 1.0f, 0.0f));
+    if (std::fabs(glm::dot(f, up)) > 0.9999f) // Looking along 'up': any perpendicular will do.
+        up = std::fabs(f.y) < 0.9f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f);
+    const glm::vec3 r = NormalizeOr(glm::cross(f, up), glm::vec3(1.0f, 0.0f, 0.0f));
+    const glm::vec3 d = glm::cross(f, r); // Down: view space is x right, y down, z forward.
 
-    const Float3& p = camera.position;
-    const Float3 rows[3] = {r, d, f};
-    std::fill(worldToView, worldToView + 16, 0.0f);
-    for (int row = 0; row < 3; row++)
-    {
-        worldToView[0 * 4 + row] = rows[row].x;
-        worldToView[1 * 4 + row] = rows[row].y;
-        worldToView[2 * 4 + row] = rows[row].z;
-        worldToView[3 * 4 + row] = -Dot(rows[row], p);
-    }
-    worldToView[15] = 1.0f;
+    // Rows r, d, f and the translation that puts the camera at the origin.
+    const glm::vec3& p = camera.position;
+    const glm::mat4 view = glm::transpose(glm::mat4(glm::vec4(r, -glm::dot(r, p)), glm::vec4(d, -glm::dot(d, p)),
+                                                    glm::vec4(f, -glm::dot(f, p)), glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)));
+    std::memcpy(worldToView, glm::value_ptr(view), sizeof(float) * 16);
 
-    float sy = 1.0f / std::tan(0.5f * camera.fovDeg * kDegToRad);
-    float sx = sy * float(height) / float(std::max(width, 1u));
-    std::fill(viewToClip, viewToClip + 16, 0.0f);
-    viewToClip[0] = sx;
-    viewToClip[5] = sy;
-    viewToClip[3 * 4 + 2] = camera.nearZ; // clip.z = near -> ndc.z = near / viewZ (reversed, infinite)
-    viewToClip[2 * 4 + 3] = 1.0f;         // clip.w = viewZ
+    const float sy = 1.0f / std::tan(glm::radians(0.5f * camera.fovDeg));
+    const float sx = sy * float(height) / float(std::max(width, 1u));
+    glm::mat4 proj(0.0f);
+    proj[0][0] = sx;
+    proj[1][1] = sy;
+    proj[3][2] = camera.nearZ; // clip.z = near -> ndc.z = near / viewZ (reversed, infinite)
+    proj[2][3] = 1.0f;         // clip.w = viewZ
+    std::memcpy(viewToClip, glm::value_ptr(proj), sizeof(float) * 16);
 }
 
 FrameCamera ComputeFrameCamera(const Scene& scene, uint32_t frame, uint32_t width, uint32_t height)
@@ -197,18 +179,12 @@ FrameCamera ComputeFrameCamera(const Scene& scene, uint32_t frame, uint32_t widt
 bool ProjectToPixel(const float worldToView[16], const float viewToClip[16], uint32_t width, uint32_t height,
                     const float p[3], float& outPixelX, float& outPixelY, float& outViewZ)
 {
-    float v[4], c[4];
-    for (int row = 0; row < 4; row++)
-        v[row] = worldToView[row] * p[0] + worldToView[4 + row] * p[1] + worldToView[8 + row] * p[2] +
-                 worldToView[12 + row];
-    for (int row = 0; row < 4; row++)
-        c[row] = viewToClip[row] * v[0] + viewToClip[4 + row] * v[1] + viewToClip[8 + row] * v[2] +
-                 viewToClip[12 + row] * v[3];
-    outViewZ = c[3];
-    if (c[3] <= 0.0f)
+    const glm::vec4 c = glm::make_mat4(viewToClip) * (glm::make_mat4(worldToView) * glm::vec4(glm::make_vec3(p), 1.0f));
+    outViewZ = c.w;
+    if (c.w <= 0.0f)
         return false;
-    outPixelX = (c[0] / c[3] * 0.5f + 0.5f) * float(width);
-    outPixelY = (c[1] / c[3] * 0.5f + 0.5f) * float(height);
+    outPixelX = (c.x / c.w * 0.5f + 0.5f) * float(width);
+    outPixelY = (c.y / c.w * 0.5f + 0.5f) * float(height);
     return true;
 }
 

@@ -142,7 +142,7 @@ void CopyMatrix(gpu::mat4& dst, const float src[16])
     std::memcpy(dst.m, src, sizeof(dst.m));
 }
 
-gpu::vec4 Vec4(const Float3& v, float w)
+gpu::vec4 Vec4(const glm::vec3& v, float w)
 {
     return {v.x, v.y, v.z, w};
 }
@@ -400,8 +400,9 @@ struct SceneLab::Impl
         uint64_t h = 0xcbf29ce484222325ull;
         for (uint32_t i = 0; i < count; i++)
         {
-            // The ray-list variants write nothing the cache holds (TraceSpecularRays is never cached).
-            if (std::strncmp(blobs[i].name, "LabRays_", 8) == 0)
+            // Variants that write nothing the cache holds: the ray lists (TraceSpecularRays is never
+            // cached) and the traversal query of the tests (TraceMeshRays).
+            if (std::strncmp(blobs[i].name, "LabRays_", 8) == 0 || std::strcmp(blobs[i].name, "LabRayQuery") == 0)
                 continue;
             h = Fnv1a64(blobs[i].words, blobs[i].size, h);
         }
@@ -658,6 +659,8 @@ struct SceneLab::Impl
     }
 
     bool UploadMeshes(const Scene& scene);
+    bool TraceMeshRays(const Scene& scene, uint32_t objectIndex, const std::vector<SceneLab::MeshRay>& rays,
+                       std::vector<MeshHit>& hits);
     void Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
                 const RenderParams& p, uint32_t seed);
     void StoreNoisy(Slot slot, const float* d, uint32_t w, uint32_t h, FrameData& out);
@@ -733,6 +736,158 @@ bool SceneLab::Impl::UploadMeshes(const Scene& scene)
     return true;
 }
 
+bool SceneLab::Impl::TraceMeshRays(const Scene& scene, uint32_t objectIndex,
+                                   const std::vector<SceneLab::MeshRay>& rays, std::vector<MeshHit>& hits)
+{
+    hits.clear();
+    if (objectIndex >= scene.objects.size() || scene.objects[objectIndex].type != PrimitiveType::MESH ||
+        !scene.objects[objectIndex].mesh)
+    {
+        error = "TraceMeshRays: object " + std::to_string(objectIndex) + " is not a mesh";
+        return false;
+    }
+    if (rays.empty())
+        return true;
+    if (!UploadMeshes(scene))
+        return false;
+    const size_t mesh = size_t(std::find(meshes.begin(), meshes.end(), scene.objects[objectIndex].mesh) - meshes.begin());
+    uint32_t triangleBase = 0;
+    for (size_t m = 0; m < mesh; m++)
+        triangleBase += uint32_t(meshes[m]->triangles.size());
+
+    const char* kName = "LabRayQuery";
+    rhi::Pipeline* pipeline = pipelines.count(kName) ? pipelines[kName] : nullptr;
+    if (!pipeline)
+    {
+        uint32_t count = 0;
+        const LabShaderBlob* blobs = GetLabShaders(count);
+        const LabShaderBlob* blob = nullptr;
+        for (uint32_t i = 0; i < count && !blob; i++)
+            if (std::strcmp(blobs[i].name, kName) == 0)
+                blob = &blobs[i];
+        if (!blob)
+        {
+            error = std::string("no shader variant ") + kName;
+            return false;
+        }
+        std::vector<rhi::DescriptorBindingDesc> bindings;
+        for (uint32_t b : {LAB_BINDING_CONSTANTS, LAB_BINDING_OBJECTS, LAB_BINDING_MATERIALS, LAB_BINDING_LIGHTS})
+            bindings.push_back({b, rhi::DescriptorType::UNIFORM_BUFFER, 1, nullptr});
+        for (uint32_t b : {LAB_BINDING_BVH_NODES, LAB_BINDING_TRIANGLES, LAB_BINDING_RAYS})
+            bindings.push_back({b, rhi::DescriptorType::BUFFER, 1, nullptr});
+        bindings.push_back({LAB_BINDING_RAY_HITS, rhi::DescriptorType::STORAGE_BUFFER, 1, nullptr});
+        rhi::DescriptorSetDesc set = {bindings.data(), uint32_t(bindings.size())};
+        rhi::ComputePipelineDesc pd;
+        pd.spirv = blob->words;
+        pd.spirvSize = blob->size;
+        pd.sets = &set;
+        pd.setsNum = 1;
+        pd.pushConstantsSize = uint32_t(sizeof(gpu::LabRayQuery));
+        pd.name = kName;
+        if (!Check(device.CreateComputePipeline(pd, pipeline), "CreateComputePipeline"))
+            return false;
+        pipelines[kName] = pipeline;
+    }
+
+    // Rays in (host upload), hits out (host readback), in a descriptor pool of their own.
+    rhi::Buffer* rayBuffer = nullptr;
+    rhi::Buffer* hitBuffer = nullptr;
+    rhi::DescriptorPool* pool = nullptr;
+    auto cleanUp = [&]() {
+        device.WaitIdle();
+        device.DestroyBuffer(rayBuffer);
+        device.DestroyBuffer(hitBuffer);
+        device.DestroyDescriptorPool(pool);
+    };
+    rhi::BufferDesc bd;
+    bd.size = sizeof(gpu::LabRay) * rays.size();
+    bd.usage = rhi::BUFFER_USAGE_STORAGE;
+    bd.location = rhi::MemoryLocation::HOST_UPLOAD;
+    bd.name = "LabRays";
+    rhi::BufferDesc hd = bd;
+    hd.size = sizeof(gpu::LabRayHit) * rays.size();
+    hd.location = rhi::MemoryLocation::HOST_READBACK;
+    hd.name = "LabRayHits";
+    rhi::DescriptorPoolDesc poolDesc;
+    poolDesc.setsMaxNum = 1;
+    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::UNIFORM_BUFFER] = 4;
+    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::BUFFER] = 3;
+    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_BUFFER] = 1;
+    rhi::DescriptorSet* set = nullptr;
+    if (!Check(device.CreateBuffer(bd, rayBuffer), "CreateBuffer (rays)") ||
+        !Check(device.CreateBuffer(hd, hitBuffer), "CreateBuffer (ray hits)") ||
+        !Check(device.CreateDescriptorPool(poolDesc, pool), "CreateDescriptorPool") ||
+        !Check(device.AllocateDescriptorSet(*pool, *pipeline, 0, set), "AllocateDescriptorSet"))
+    {
+        cleanUp();
+        return false;
+    }
+    auto* gpuRays = static_cast<gpu::LabRay*>(device.MapBuffer(*rayBuffer));
+    for (size_t i = 0; i < rays.size(); i++)
+        gpuRays[i] = {{rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, rays[i].tMax},
+                      {rays[i].direction.x, rays[i].direction.y, rays[i].direction.z, rays[i].anyHit ? 1.0f : 0.0f}};
+    std::vector<rhi::DescriptorWrite> writes;
+    const std::pair<uint32_t, rhi::Buffer*> uniforms[] = {
+        {LAB_BINDING_CONSTANTS, constants}, {LAB_BINDING_OBJECTS, objects}, {LAB_BINDING_MATERIALS, materials},
+        {LAB_BINDING_LIGHTS, lights}};
+    for (const auto& [binding, buffer] : uniforms)
+    {
+        rhi::DescriptorWrite wr;
+        wr.binding = binding;
+        wr.type = rhi::DescriptorType::UNIFORM_BUFFER;
+        wr.buffer = buffer;
+        writes.push_back(wr);
+    }
+    const std::pair<uint32_t, rhi::Buffer*> storage[] = {
+        {LAB_BINDING_BVH_NODES, bvhNodes}, {LAB_BINDING_TRIANGLES, triangles}, {LAB_BINDING_RAYS, rayBuffer}};
+    for (const auto& [binding, buffer] : storage)
+    {
+        rhi::DescriptorWrite wr;
+        wr.binding = binding;
+        wr.type = rhi::DescriptorType::BUFFER;
+        wr.buffer = buffer;
+        writes.push_back(wr);
+    }
+    rhi::DescriptorWrite out;
+    out.binding = LAB_BINDING_RAY_HITS;
+    out.type = rhi::DescriptorType::STORAGE_BUFFER;
+    out.buffer = hitBuffer;
+    writes.push_back(out);
+    device.UpdateDescriptorSet(*set, writes.data(), uint32_t(writes.size()));
+
+    const uint32_t meshRoot = meshRoots[mesh];
+    bool ok = Check(device.BeginCommandBuffer(*commandBuffer), "BeginCommandBuffer");
+    if (ok)
+    {
+        device.CmdBindPipeline(*commandBuffer, *pipeline);
+        device.CmdBindDescriptorSet(*commandBuffer, *pipeline, 0, *set);
+        gpu::LabRayQuery query = {{uint32_t(rays.size()), meshRoot, 0u, 0u}};
+        device.CmdPushConstants(*commandBuffer, *pipeline, &query, sizeof(query));
+        device.CmdDispatch(*commandBuffer, DivideUp(uint32_t(rays.size()), 64), 1, 1);
+        // Shader writes -> host reads after the submission completed.
+        rhi::BufferBarrier bb = {hitBuffer, rhi::ACCESS_SHADER_READ_WRITE, rhi::ACCESS_HOST_READ};
+        rhi::BarrierDesc barrier;
+        barrier.buffers = &bb;
+        barrier.buffersNum = 1;
+        device.CmdBarrier(*commandBuffer, barrier);
+        ok = Check(device.EndCommandBuffer(*commandBuffer), "EndCommandBuffer") &&
+             Check(device.SubmitAndWait(*commandBuffer), "SubmitAndWait");
+    }
+    if (ok)
+    {
+        const auto* gpuHits = static_cast<const gpu::LabRayHit*>(device.MapBuffer(*hitBuffer));
+        hits.resize(rays.size());
+        for (size_t i = 0; i < rays.size(); i++)
+        {
+            const gpu::LabRayHit& g = gpuHits[i];
+            if (g.triangle.x != 0xFFFFFFFFu)
+                hits[i] = {int(g.triangle.x - triangleBase), g.tUv.x, g.tUv.y, g.tUv.z};
+        }
+    }
+    cleanUp();
+    return ok;
+}
+
 void SceneLab::Impl::Upload(const Scene& scene, const SceneState& cur, const SceneState& prev, const FrameCamera& cam,
                             const RenderParams& p, uint32_t seed)
 {
@@ -769,11 +924,10 @@ void SceneLab::Impl::Upload(const Scene& scene, const SceneState& cur, const Sce
         const ObjectState* states[2] = {&cur.objects[i], &prev.objects[i]};
         for (uint32_t slot = 0; slot < 2; slot++)
         {
-            const float* R = states[slot]->rotation;
-            const Float3& T = states[slot]->position;
-            const float t[3] = {T.x, T.y, T.z};
-            for (uint32_t row = 0; row < 3; row++)
-                g.xform[slot * 3 + row] = {R[row * 3 + 0], R[row * 3 + 1], R[row * 3 + 2], t[row]};
+            const glm::mat3& R = states[slot]->rotation;
+            const glm::vec3& T = states[slot]->position;
+            for (int row = 0; row < 3; row++)
+                g.xform[slot * 3 + uint32_t(row)] = {R[0][row], R[1][row], R[2][row], T[row]};
         }
         g.info.z = std::memcmp(g.xform, g.xform + 3, sizeof(gpu::vec4) * 3) == 0 ? 1u : 0u;
         objs[i] = g;
@@ -1267,6 +1421,17 @@ bool SceneLab::TraceSpecularRays(const Scene& scene, const RenderParams& params,
                                  Image& out, std::string& error)
 {
     return m_Impl->TraceSpecularRays(scene, params, rayList, out, error);
+}
+
+bool SceneLab::TraceMeshRays(const Scene& scene, uint32_t objectIndex, const std::vector<MeshRay>& rays,
+                             std::vector<MeshHit>& hits, std::string& error)
+{
+    if (!m_Impl->TraceMeshRays(scene, objectIndex, rays, hits))
+    {
+        error = m_Impl->error;
+        return false;
+    }
+    return true;
 }
 
 } // namespace nrdlab

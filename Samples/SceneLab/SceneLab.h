@@ -17,6 +17,7 @@
 #pragma once
 
 #include "Image.h"
+#include "Mesh.h"
 #include "Scene.h"
 
 #include "NRD.h"
@@ -208,6 +209,21 @@ public:
                            Image& out, std::string& error);
 
     void SetCacheDirectory(const std::string& directory);
+
+    // Traces object-space rays through the BVH of mesh object 'objectIndex' of 'scene' on the device,
+    // with the traversal every lab pass uses (Shaders/LabScene.glsl IntersectMesh), for tests that
+    // compare it with a CPU intersection (Mesh.h IntersectMesh). One hit per ray: the triangle index
+    // in MeshData::triangles (BVH order, -1 on a miss), t in (0, ray.tMax) and the barycentrics.
+    // Returns false with a message if the object is not a mesh or the device fails.
+    struct MeshRay
+    {
+        glm::vec3 origin = glm::vec3(0.0f);
+        glm::vec3 direction = glm::vec3(0.0f, 0.0f, 1.0f); // Need not be unit length.
+        float tMax = 1e30f;
+        bool anyHit = false; // Stop at the first triangle found (as shadow rays do).
+    };
+    bool TraceMeshRays(const Scene& scene, uint32_t objectIndex, const std::vector<MeshRay>& rays,
+                       std::vector<MeshHit>& hits, std::string& error);
 
 private:
     struct Impl;

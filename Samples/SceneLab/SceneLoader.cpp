@@ -166,7 +166,7 @@ public:
     }
 
     // [x, y, z] with each component in [lo, hi]; a single number means (v, v, v) if 'allowScalar'.
-    bool Vec3(const json& j, const std::string& path, float lo, float hi, bool allowScalar, Float3& out)
+    bool Vec3(const json& j, const std::string& path, float lo, float hi, bool allowScalar, glm::vec3& out)
     {
         const char* what = allowScalar ? "an array of 3 numbers or a number" : "an array of 3 numbers";
         if (allowScalar && j.is_number())
@@ -187,7 +187,7 @@ public:
         return true;
     }
 
-    bool NonZero(const Float3& v, const std::string& path)
+    bool NonZero(const glm::vec3& v, const std::string& path)
     {
         if (v.x * v.x + v.y * v.y + v.z * v.z < 1e-12f)
             return Fail(path, "expected a non-zero vector");
@@ -274,7 +274,7 @@ bool ReadSky(Reader& r, const json& j, Sky& sky)
     const std::string path = "sky";
     if (j.is_number() || j.is_array())
     {
-        Float3 c;
+        glm::vec3 c;
         if (!r.Vec3(j, path, 0.0f, kBig, true, c))
             return false;
         sky.zenith = sky.horizon = sky.ground = c;
@@ -316,7 +316,7 @@ bool ReadCamera(Reader& r, const json& j, CameraDesc& cam)
         return false;
     return ReadKeyframes(r, j, path, {"position", "target", "up", "fov"},
                          [&](const json& k, const std::string& p, uint32_t frame) {
-                             Float3 v;
+                             glm::vec3 v;
                              float f = 0.0f;
                              if (k.contains("position"))
                              {
@@ -492,7 +492,7 @@ bool ReadObject(Reader& r, const json& j, const std::string& path, const json& m
         return false;
     if (j.contains("normal"))
     {
-        Float3 n;
+        glm::vec3 n;
         if (!r.Vec3(j["normal"], Reader::Join(path, "normal"), -kBig, kBig, false, n) ||
             !r.NonZero(n, Reader::Join(path, "normal")))
             return false;
@@ -505,7 +505,7 @@ bool ReadObject(Reader& r, const json& j, const std::string& path, const json& m
         o.rotation.value = {ax, ay, 0.0f};
     }
     return ReadKeyframes(r, j, path, {"position", "rotation"}, [&](const json& k, const std::string& p, uint32_t f) {
-        Float3 v;
+        glm::vec3 v;
         if (k.contains("position"))
         {
             if (!r.Vec3(k["position"], Reader::Join(p, "position"), -kBig, kBig, false, v))
@@ -592,7 +592,7 @@ bool ReadLight(Reader& r, const json& j, const std::string& path, Light& l)
     std::initializer_list<const char*> sunKeys = {"direction", "intensity", "enabled"};
     std::initializer_list<const char*> localKeys = {"position", "intensity", "enabled"};
     return ReadKeyframes(r, j, path, isSun ? sunKeys : localKeys, [&](const json& k, const std::string& p, uint32_t f) {
-        Float3 v;
+        glm::vec3 v;
         if (k.contains("direction"))
         {
             if (!r.Vec3(k["direction"], Reader::Join(p, "direction"), -kBig, kBig, false, v) ||

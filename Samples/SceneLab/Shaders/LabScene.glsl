@@ -183,6 +183,13 @@ float BvhNodeEntry(uint node, vec3 o, vec3 invD, float tMax)
     return enter <= exit ? enter : LAB_NO_HIT;
 }
 
+#ifdef LAB_TRACE_TRIANGLE
+// LabRayQuery.comp only: the triangle (index in gTriangles, -1 on a miss) and barycentrics of the
+// last IntersectMesh call. Other passes compile without it (their SPIR-V does not change).
+int gTracedTriangle;
+vec2 gTracedUv;
+#endif
+
 // Closest triangle of the BVH at 'root' along o + t d (object space), t in (0, tMax); with
 // 'anyHit' the first one found. Returns t or LAB_NO_HIT and, on a hit, the interpolated vertex
 // normal turned to the side of the face the ray comes from. Children are visited nearest first;
@@ -191,6 +198,9 @@ float BvhNodeEntry(uint node, vec3 o, vec3 invD, float tMax)
 float IntersectMesh(uint root, vec3 o, vec3 d, float tMax, bool anyHit, out vec3 n)
 {
     n = vec3(0.0, 1.0, 0.0);
+#ifdef LAB_TRACE_TRIANGLE
+    gTracedTriangle = -1;
+#endif
     vec3 invD = 1.0 / d;
     float best = tMax;
     int bestTri = -1;
@@ -273,6 +283,10 @@ float IntersectMesh(uint root, vec3 o, vec3 d, float tMax, bool anyHit, out vec3
         if (!found)
             break;
     }
+#ifdef LAB_TRACE_TRIANGLE
+    gTracedTriangle = bestTri;
+    gTracedUv = bestUv;
+#endif
     if (bestTri < 0)
         return LAB_NO_HIT;
     uint i = uint(bestTri);

@@ -83,7 +83,10 @@ struct mat4 { float m[16]; }; // Column-major, as GLSL.
 #define LAB_BINDING_TRIANGLES 19     // LabTriangle[], in BVH leaf order
 #define LAB_BINDING_RAY_LIST 20     // uint[]: the rays to trace (nrd::BufferContent::RAY_LIST entries)
 #define LAB_BINDING_RAY_ARGS 21     // uint[4]: indirect dispatch (groups, 1, 1), ray count
-#define LAB_BINDING_NUM 22
+// LabRayQuery (tests of the traversal): rays in, hits out (storage buffers)
+#define LAB_BINDING_RAYS 22          // LabRay[]
+#define LAB_BINDING_RAY_HITS 23      // LabRayHit[]
+#define LAB_BINDING_NUM 24
 
 // Traversal stack of the mesh BVH: Mesh.h kMaxBvhDepth + 1.
 #define LAB_BVH_STACK 64
@@ -157,7 +160,29 @@ struct LabTriangle
     vec4 n2;
 };
 
+// LabRayQuery: one object-space ray against one mesh's BVH, t in (0, tMax).
+struct LabRay
+{
+    vec4 originTMax;
+    vec4 direction; // w: 1 = any hit (stop at the first triangle found), 0 = closest hit
+};
+
+// LabRayQuery result.
+struct LabRayHit
+{
+    uvec4 triangle; // x: index in LabTriangle[], 0xFFFFFFFF on a miss
+    vec4 tUv;       // t, barycentrics of p1 and p2 (0 on a miss)
+};
+
+// LabRayQuery push constants: ray count, root node of the mesh, 0, 0.
+struct LabRayQuery
+{
+    uvec4 gQuery;
+};
+
 #ifdef __cplusplus
+static_assert(sizeof(LabRay) == 32, "LabRay layout");
+static_assert(sizeof(LabRayHit) == 32, "LabRayHit layout");
 static_assert(sizeof(LabBvhNode) == 32, "LabBvhNode layout");
 static_assert(sizeof(LabTriangle) == 96, "LabTriangle layout");
 static_assert(sizeof(LabConstants) == 4 * 64 + 6 * 16 + 3 * 16, "LabConstants layout");
