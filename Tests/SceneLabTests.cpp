@@ -837,7 +837,8 @@ std::vector<SceneLab::MeshRay> RandomMeshRays(const MeshData& mesh, int rayNum)
     const glm::vec3 centre = 0.5f * (mesh.boundsMin + mesh.boundsMax);
     const float radius = glm::length(mesh.boundsMax - mesh.boundsMin);
     uint32_t rng = 12345u;
-    auto next = [&]() {
+    auto next = [&]()
+    {
         rng = rng * 1664525u + 1013904223u;
         return float(rng >> 8) / 16777216.0f;
     };

@@ -207,10 +207,10 @@ double PsnrImpl(const Image& test, const Image& ref, bool toneMap)
 
 // Linear sRGB (D65) -> CIE XYZ, written as exact ratios of the sRGB primaries.
 // Written row by row (GLM's constructor takes columns, hence the transpose).
-const glm::dmat3 kRgbToXyz = glm::transpose(
-    glm::dmat3(10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0,
-               2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0,
-               1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0));
+const glm::dmat3 kRgbToXyz =
+    glm::transpose(glm::dmat3(10135552.0 / 24577794.0, 8788810.0 / 24577794.0, 4435075.0 / 24577794.0,
+                              2613072.0 / 12288897.0, 8788810.0 / 12288897.0, 887015.0 / 12288897.0,
+                              1425312.0 / 73733382.0, 8788810.0 / 73733382.0, 70074185.0 / 73733382.0));
 const glm::dmat3 kXyzToRgb = glm::inverse(kRgbToXyz);
 // Reference white (D65): XYZ of linear RGB (1, 1, 1); its Y is 1.
 const glm::dvec3 kWhite = kRgbToXyz * glm::dvec3(1.0);
@@ -260,8 +260,8 @@ constexpr double kFlipPt = 0.95;
 // Largest expected colour error: HyAB^qc between Hunt-adjusted green and blue.
 double FlipCmax()
 {
-    static const double cmax = std::pow(
-        HyAB(RgbToHuntLab(glm::dvec3(0.0, 1.0, 0.0)), RgbToHuntLab(glm::dvec3(0.0, 0.0, 1.0))), kFlipQc);
+    static const double cmax =
+        std::pow(HyAB(RgbToHuntLab(glm::dvec3(0.0, 1.0, 0.0)), RgbToHuntLab(glm::dvec3(0.0, 0.0, 1.0))), kFlipQc);
     return cmax;
 }
 
@@ -472,8 +472,8 @@ Image FlipMapImpl(const Image& test, const Image& ref, double ppd, bool toneMap)
     Image map(test.width, test.height, 1);
     for (size_t i = 0; i < map.pixels.size(); ++i)
     {
-        const double hyab = HyAB(glm::dvec3(t.lab[0][i], t.lab[1][i], t.lab[2][i]),
-                                 glm::dvec3(r.lab[0][i], r.lab[1][i], r.lab[2][i]));
+        const double hyab =
+            HyAB(glm::dvec3(t.lab[0][i], t.lab[1][i], t.lab[2][i]), glm::dvec3(r.lab[0][i], r.lab[1][i], r.lab[2][i]));
         const double colour = FlipRedistribute(std::pow(hyab, kFlipQc));
         const double df = std::max(std::abs(double(t.edge[i]) - double(r.edge[i])),
                                    std::abs(double(t.point[i]) - double(r.point[i])));

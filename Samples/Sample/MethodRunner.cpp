@@ -1028,8 +1028,11 @@ std::string ReportToJson(const RunReport& r)
     }
     j["meshes"] = nlohmann::json::array();
     for (const RunReport::MeshInfo& m : r.meshes)
-        j["meshes"].push_back({{"file", m.file}, {"triangles", m.triangles}, {"bvh_nodes", m.bvhNodes},
-                               {"bvh_depth", m.bvhDepth}, {"bvh_build_ms", m.bvhBuildMs}});
+        j["meshes"].push_back({{"file", m.file},
+                               {"triangles", m.triangles},
+                               {"bvh_nodes", m.bvhNodes},
+                               {"bvh_depth", m.bvhDepth},
+                               {"bvh_build_ms", m.bvhBuildMs}});
     nlohmann::json passes = nlohmann::json::object();
     for (const auto& p : r.passMs)
         passes[p.first] = p.second;

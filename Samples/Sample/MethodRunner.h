@@ -141,9 +141,9 @@ struct RunReport
     {
         std::string file;
         uint32_t triangles = 0, bvhNodes = 0, bvhDepth = 0;
-        double bvhBuildMs = 0;     // Once per process (LoadMeshShared).
+        double bvhBuildMs = 0; // Once per process (LoadMeshShared).
     };
-    std::vector<MeshInfo> meshes;  // The scene's triangle meshes, each once.
+    std::vector<MeshInfo> meshes; // The scene's triangle meshes, each once.
     // Methods that trace a ray list (MethodAdapter::IsRayListTraced), means over the frames after
     // the warm-up: rays the lab traced, rays of the full-rate input (one per non-sky pixel), ratio.
     double raysTraced = 0, raysFullRate = 0, rayRatio = 0;

@@ -81,7 +81,7 @@ struct Material
     glm::vec3 albedo = {0.8f, 0.8f, 0.8f}; // [0, 1] each.
     float roughness = 0.5f;             // [0, 1].
     float metalness = 0.0f;             // [0, 1].
-    glm::vec3 emission = {};               // Radiance emitted, >= 0, seen only by rays that hit it.
+    glm::vec3 emission = {};            // Radiance emitted, >= 0, seen only by rays that hit it.
 };
 
 struct Object
@@ -89,24 +89,24 @@ struct Object
     std::string name;
     PrimitiveType type = PrimitiveType::SPHERE;
     float radius = 0.5f;          // SPHERE.
-    glm::vec3 size = {1, 1, 1};      // BOX: x, y, z extents; QUAD: x and z extents (y unused).
+    glm::vec3 size = {1, 1, 1};   // BOX: x, y, z extents; QUAD: x and z extents (y unused).
     std::string file;             // MESH: the path as written in the scene.
-    glm::vec3 scale = {1, 1, 1};     // MESH: per-axis scale of the model (constant, baked into 'mesh').
+    glm::vec3 scale = {1, 1, 1};  // MESH: per-axis scale of the model (constant, baked into 'mesh').
     std::shared_ptr<const MeshData> mesh; // MESH: the loaded triangles and their BVH (shared, immutable).
     Material material;
-    Track<glm::vec3> position;       // World position of the local origin.
-    Track<glm::vec3> rotation;       // Euler angles in degrees, applied about X, then Y, then Z.
+    Track<glm::vec3> position; // World position of the local origin.
+    Track<glm::vec3> rotation; // Euler angles in degrees, applied about X, then Y, then Z.
 };
 
 struct Light
 {
     std::string name;
     LightType type = LightType::SUN;
-    Track<glm::vec3> direction;      // SUN: towards the light, normalized when evaluated.
-    Track<glm::vec3> position;       // SPHERE, POINT.
+    Track<glm::vec3> direction;     // SUN: towards the light, normalized when evaluated.
+    Track<glm::vec3> position;      // SPHERE, POINT.
     float angularRadiusDeg = 0.27f; // SUN, [0, 30].
     float radius = 0.1f;          // SPHERE, > 0.
-    Track<glm::vec3> intensity;      // RGB, >= 0 (units: see LightType).
+    Track<glm::vec3> intensity;   // RGB, >= 0 (units: see LightType).
     SwitchTrack enabled;          // A disabled light emits nothing and shadows everything.
 };
 
@@ -114,7 +114,7 @@ struct CameraDesc
 {
     Track<glm::vec3> position;
     Track<glm::vec3> target;
-    Track<glm::vec3> up;             // Need not be orthogonal to the view direction.
+    Track<glm::vec3> up;          // Need not be orthogonal to the view direction.
     Track<float> fovDeg;          // Vertical field of view, (0, 180).
     float nearZ = 0.1f;           // Near plane of viewToClip (viewZ of the depth value 1).
 };
@@ -177,12 +177,12 @@ struct ObjectState
 struct LightState
 {
     LightType type = LightType::SUN;
-    glm::vec3 direction;             // SUN: unit vector towards the light.
-    glm::vec3 position;              // SPHERE, POINT.
+    glm::vec3 direction;          // SUN: unit vector towards the light.
+    glm::vec3 position;           // SPHERE, POINT.
     float radius = 0.0f;          // SPHERE.
     float tanAngularRadius = 0.0f; // SUN: tan(angular radius).
     float cosAngularRadius = 1.0f; // SUN: cos(angular radius).
-    glm::vec3 intensity;             // Zero if disabled.
+    glm::vec3 intensity;           // Zero if disabled.
     bool enabled = true;
 };
 

@@ -736,8 +736,8 @@ bool SceneLab::Impl::UploadMeshes(const Scene& scene)
     return true;
 }
 
-bool SceneLab::Impl::TraceMeshRays(const Scene& scene, uint32_t objectIndex,
-                                   const std::vector<SceneLab::MeshRay>& rays, std::vector<MeshHit>& hits)
+bool SceneLab::Impl::TraceMeshRays(const Scene& scene, uint32_t objectIndex, const std::vector<SceneLab::MeshRay>& rays,
+                                   std::vector<MeshHit>& hits)
 {
     hits.clear();
     if (objectIndex >= scene.objects.size() || scene.objects[objectIndex].type != PrimitiveType::MESH ||
@@ -750,7 +750,8 @@ bool SceneLab::Impl::TraceMeshRays(const Scene& scene, uint32_t objectIndex,
         return true;
     if (!UploadMeshes(scene))
         return false;
-    const size_t mesh = size_t(std::find(meshes.begin(), meshes.end(), scene.objects[objectIndex].mesh) - meshes.begin());
+    const size_t mesh =
+        size_t(std::find(meshes.begin(), meshes.end(), scene.objects[objectIndex].mesh) - meshes.begin());
     uint32_t triangleBase = 0;
     for (size_t m = 0; m < mesh; m++)
         triangleBase += uint32_t(meshes[m]->triangles.size());
@@ -793,7 +794,8 @@ bool SceneLab::Impl::TraceMeshRays(const Scene& scene, uint32_t objectIndex,
     rhi::Buffer* rayBuffer = nullptr;
     rhi::Buffer* hitBuffer = nullptr;
     rhi::DescriptorPool* pool = nullptr;
-    auto cleanUp = [&]() {
+    auto cleanUp = [&]()
+    {
         device.WaitIdle();
         device.DestroyBuffer(rayBuffer);
         device.DestroyBuffer(hitBuffer);
@@ -827,9 +829,10 @@ bool SceneLab::Impl::TraceMeshRays(const Scene& scene, uint32_t objectIndex,
         gpuRays[i] = {{rays[i].origin.x, rays[i].origin.y, rays[i].origin.z, rays[i].tMax},
                       {rays[i].direction.x, rays[i].direction.y, rays[i].direction.z, rays[i].anyHit ? 1.0f : 0.0f}};
     std::vector<rhi::DescriptorWrite> writes;
-    const std::pair<uint32_t, rhi::Buffer*> uniforms[] = {
-        {LAB_BINDING_CONSTANTS, constants}, {LAB_BINDING_OBJECTS, objects}, {LAB_BINDING_MATERIALS, materials},
-        {LAB_BINDING_LIGHTS, lights}};
+    const std::pair<uint32_t, rhi::Buffer*> uniforms[] = {{LAB_BINDING_CONSTANTS, constants},
+                                                          {LAB_BINDING_OBJECTS, objects},
+                                                          {LAB_BINDING_MATERIALS, materials},
+                                                          {LAB_BINDING_LIGHTS, lights}};
     for (const auto& [binding, buffer] : uniforms)
     {
         rhi::DescriptorWrite wr;
