@@ -313,24 +313,31 @@ constexpr float REBLUR_MAX_BLUR_RADIUS = 64.0f;
 //     g = D / max(L, 1e-6)                                      normalized gradient, [0, 1] for the lab's
 //     c = clamp(1 - (g - gradientThreshold) * gradientSensitivity, 0, 1)
 //     confidence = mix(c, history, c < history ? fallHistoryWeight : riseHistoryWeight)
+//     confidence = confidence >= 0.99 ? 1 : confidence
 // where 'history' is last frame's confidence reprojected with IN_MV (c alone after a restart or
 // where the history falls off screen). One frame moves the confidence by at most
-// (1 - historyWeight) * |c - history|. Ranges in brackets; INVALID_ARGUMENT outside.
+// (1 - historyWeight) * |c - history| (before the snap to 1, which keeps a rising confidence from
+// stalling just below 1 in fp16 storage). Ranges in brackets; INVALID_ARGUMENT outside.
 struct ConfidenceSettings
 {
     // Normalized gradients up to this value are noise: confidence stays 1, [0, 1).
-    float gradientThreshold = 0.0f;
+    float gradientThreshold = 0.05f;
 
     // Slope of the confidence above the threshold: confidence reaches 0 at a normalized gradient of
     // gradientThreshold + 1 / gradientSensitivity, [1, 1000].
-    float gradientSensitivity = 4.0f;
+    float gradientSensitivity = 1.0f;
 
     // Weight of last frame's confidence where the new one is lower (history being invalidated),
     // [0, 1). 0: invalidation on the frame of the change.
-    float fallHistoryWeight = 0.25f;
+    float fallHistoryWeight = 0.0f;
 
     // Weight of last frame's confidence where the new one is higher (history recovering), [0, 1).
-    float riseHistoryWeight = 0.5f;
+    // Both weights default to 0 (no temporal filter): measured with REBLUR on the scene lab, whose
+    // first frame after a change is unbiased, any confidence below 1 on the frames after a change
+    // restarts REBLUR's short histories again (it multiplies the history length by the confidence
+    // and rounds down) and costs more than it smooths (Shaders/Confidence/README.md). Applications
+    // whose lighting is biased right after a change (ReSTIR) raise them.
+    float riseHistoryWeight = 0.0f;
 
     // A-trous passes over the gradients (3x3 kernel, steps 1, 2, 4, ...), [1, CONFIDENCE_MAX_ATROUS_PASS_NUM].
     // 4 covers 31 x 31 gradient texels (93 x 93 pixels).

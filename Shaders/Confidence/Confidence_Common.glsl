@@ -2,6 +2,9 @@
 #ifndef CONFIDENCE_COMMON_GLSL
 #define CONFIDENCE_COMMON_GLSL
 
+// Confidence at or above this is output as 1 (NRDSettings.h, ConfidenceSettings).
+#define CONFIDENCE_SNAP_TO_ONE 0.99
+
 // A gradient texel as the passes use it: non-finite and negative values count as 0 (no gradient),
 // huge ones are clamped so that sums of 9 weighted taps stay finite in fp16 storage.
 vec4 _Confidence_LoadGradient(texture2D t, ivec2 texel)

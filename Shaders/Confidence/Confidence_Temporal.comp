@@ -55,6 +55,10 @@ void main()
             confidence = mix(confidence, history, weight);
         }
     }
+    // A rising confidence ends at exactly 1: fp16 history storage (rounded towards 0 on some
+    // devices) would otherwise leave it just below 1 for good, and consumers shorten their history
+    // for anything below 1.
+    confidence = mix(confidence, vec2(1.0), greaterThanEqual(confidence, vec2(CONFIDENCE_SNAP_TO_ONE)));
 
     imageStore(gOut_History, pixel, vec4(confidence, 0.0, 0.0));
     imageStore(gOut_DiffConfidence, pixel, vec4(confidence.x));
