@@ -56,7 +56,7 @@ NRD_API Result SetCommonSettings(Denoiser& denoiser, const CommonSettings& setti
 
 // Per-method settings. The type must match the method family of 'identifier' (SigmaSettings for
 // SIGMA_*, ReferenceSettings for REFERENCE, TiledShadowSettings for TILED_SHADOW, ReblurSettings for REBLUR_*,
-// ConfidenceSettings for CONFIDENCE, ReflectionSettings for REFLECTION); otherwise
+// ConfidenceSettings for CONFIDENCE, ReflectionSettings for REFLECTION, RelaxSettings for RELAX_*); otherwise
 // INVALID_ARGUMENT. Out-of-range values return INVALID_ARGUMENT and keep the previous settings.
 // Unknown identifier: INVALID_ARGUMENT.
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const SigmaSettings& settings);
@@ -65,6 +65,7 @@ NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, cons
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReblurSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ConfidenceSettings& settings);
 NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReflectionSettings& settings);
+NRD_API Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const RelaxSettings& settings);
 
 // Checks hit distance parameters against their documented ranges (finite, A > 0, B >= 0, C >= 1,
 // D <= 0); the settings of every method that takes HitDistanceParameters call it. Returns SUCCESS or

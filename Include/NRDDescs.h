@@ -80,6 +80,17 @@ enum class Method : uint32_t
     // them only. Settings: ReflectionSettings. Shaders/Reflection/README.md lists passes and memory.
     REFLECTION,
 
+    // SVGF-style radiance denoisers with fast-history clamping (document 004, RELAX): temporal
+    // accumulation into a slow and a fast history, history fix, clamping of the slow history to the
+    // fast one, variance estimation and edge-stopping a-trous iterations; see RelaxSettings.
+    // RELAX_DIFFUSE: IN_DIFF_RADIANCE_HITDIST -> OUT_DIFF_RADIANCE_HITDIST. RELAX_SPECULAR:
+    // IN_SPEC_RADIANCE_HITDIST -> OUT_SPEC_RADIANCE_HITDIST. RELAX_DIFFUSE_SPECULAR: both. All take
+    // IN_MV, IN_NORMAL_ROUGHNESS, IN_VIEWZ, and IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE when
+    // RelaxSettings::useConfidenceInputs.
+    RELAX_DIFFUSE,
+    RELAX_SPECULAR,
+    RELAX_DIFFUSE_SPECULAR,
+
     MAX_NUM
 };
 

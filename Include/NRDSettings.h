@@ -180,7 +180,8 @@ constexpr uint32_t TILED_SHADOW_COUNTERS_SKY_TILES = 1;      // Other tiles skip
 constexpr uint32_t TILED_SHADOW_COUNTERS_TOTAL_TILES = 2;    // DivideUp(width, 8) * DivideUp(height, 4).
 constexpr uint32_t TILED_SHADOW_COUNTERS_FRAME = 3;          // Frame number n.
 
-// REBLUR checkerboard input: which pixels carry a traced sample this frame.
+// REBLUR / RELAX checkerboard input: which pixels carry a traced sample this frame (the others
+// are ignored and reconstructed from their traced neighbours).
 enum class CheckerboardMode : uint8_t
 {
     OFF,   // Every pixel.
@@ -353,5 +354,75 @@ struct ConfidenceSettings
 };
 
 constexpr uint32_t CONFIDENCE_MAX_ATROUS_PASS_NUM = 5;
+
+// RELAX_DIFFUSE, RELAX_SPECULAR and RELAX_DIFFUSE_SPECULAR (one struct for both signals; fields
+// prefixed diffuse / specular apply to one signal). Ranges in brackets; INVALID_ARGUMENT outside.
+struct RelaxSettings
+{
+    // Normalization of the hit distances in IN_*_RADIANCE_HITDIST (.w); the output's .w is
+    // normalized the same way.
+    HitDistanceParameters hitDistanceParameters = {};
+
+    // Slow history length in frames, [0, RELAX_MAX_HISTORY_FRAME_NUM]; 0 turns accumulation off.
+    uint32_t diffuseMaxAccumulatedFrameNum = 30;
+    uint32_t specularMaxAccumulatedFrameNum = 30;
+
+    // Fast history length in frames, [0, the slow one]. The slow history is clamped to the fast
+    // one's neighbourhood: shorter follows lighting changes faster and clamps harder.
+    uint32_t diffuseMaxFastAccumulatedFrameNum = 6;
+    uint32_t specularMaxFastAccumulatedFrameNum = 6;
+
+    // Histories shorter than this many frames are rebuilt from their neighbours, [0, 3].
+    uint32_t historyFixFrameNum = 3;
+
+    // Distance between the history-fix taps at history length 0, pixels, [1, 32] (5x5 taps, so the
+    // reach is this much on either side).
+    float historyFixStride = 14.0f;
+
+    // Slow history clamped to the fast history's 3x3 mean +- this many standard deviations, [0.5, 4].
+    float historyClampingColorBoxSigmaScale = 2.0f;
+
+    // Anti-lag beyond the fast-history clamp: a 5x5 mean of this frame's input this many standard
+    // deviations (and 10%) from the same taps of the previous fast history shortens both
+    // histories; so does a slow history this far from the pixel's fast history. [0, 16], 0 (the
+    // default) turns it off: on the scene lab it cost still scenes accuracy without shortening the
+    // lag after a light switch (see Shaders/Relax/README.md).
+    float antilagSigmaScale = 0.0f;
+
+    // Histories shorter than this many frames take a 7x7 spatial variance, [0, RELAX_MAX_HISTORY_FRAME_NUM].
+    uint32_t spatialVarianceEstimationHistoryThreshold = 3;
+
+    // A-trous iterations (steps 1, 2, 4, ...), [2, 8]; the first reads from shared memory.
+    uint32_t atrousIterationNum = 5;
+
+    // Luminance stopper: a tap |dL| = phi * sigma(L) away weighs 1/e, (0, 16].
+    float diffusePhiLuminance = 2.0f;
+    float specularPhiLuminance = 1.0f;
+
+    // Normal stopper: weight 0 beyond this fraction of the lobe half-angle atan(3 roughness^2)
+    // (roughness 1 for diffuse) plus specularLobeAngleSlack, (0, 1].
+    float diffuseLobeAngleFraction = 0.5f;
+    float specularLobeAngleFraction = 0.5f;
+    float specularLobeAngleSlack = 0.15f; // Degrees, [0, 90].
+
+    // Roughness stopper (specular): weight 0 beyond |dr| = fraction * r + 0.01, (0, 1].
+    float roughnessFraction = 0.15f;
+
+    // Depth stopper: weight 0 beyond this distance to the centre's tangent plane, relative to
+    // viewZ, (0, 1].
+    float depthThreshold = 0.01f;
+
+    CheckerboardMode checkerboardMode = CheckerboardMode::OFF;
+
+    // Clamp the slow history's luminance to its 3x3 neighbours' range (removes fireflies).
+    bool enableAntiFirefly = false;
+
+    bool enableRoughnessEdgeStopping = true;
+
+    // Read IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE (they must then be bound).
+    bool useConfidenceInputs = false;
+};
+
+constexpr uint32_t RELAX_MAX_HISTORY_FRAME_NUM = 63;
 
 } // namespace nrd

@@ -172,6 +172,11 @@ Result InstanceImpl::Create(const DenoiserCreationDesc& desc)
         case Method::REFLECTION:
             method.impl = CreateReflection(builder, method.desc.method);
             break;
+        case Method::RELAX_DIFFUSE:
+        case Method::RELAX_SPECULAR:
+        case Method::RELAX_DIFFUSE_SPECULAR:
+            method.impl = CreateRelax(builder, method.desc.method);
+            break;
         case Method::MAX_NUM:
             break;
         }

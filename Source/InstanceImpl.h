@@ -181,6 +181,7 @@ enum class SettingsKind : uint32_t
     REBLUR,
     CONFIDENCE,
     REFLECTION,
+    RELAX,
 };
 
 class MethodBase
@@ -238,6 +239,7 @@ std::unique_ptr<MethodBase> CreateReference(MethodBuilder& builder, Method metho
 std::unique_ptr<MethodBase> CreateReblur(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateConfidence(MethodBuilder& builder, Method method);
 std::unique_ptr<MethodBase> CreateReflection(MethodBuilder& builder, Method method);
+std::unique_ptr<MethodBase> CreateRelax(MethodBuilder& builder, Method method);
 
 class InstanceImpl
 {

@@ -13,7 +13,8 @@ static const Method kSupportedMethods[] = {Method::SIGMA_SHADOW, Method::SIGMA_S
                                            Method::TILED_SHADOW, Method::REBLUR_DIFFUSE, Method::REBLUR_SPECULAR,
                                            Method::REBLUR_DIFFUSE_SPECULAR, Method::REBLUR_DIFFUSE_OCCLUSION,
                                            Method::REBLUR_SPECULAR_OCCLUSION, Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION,
-                                           Method::CONFIDENCE, Method::REFLECTION};
+                                           Method::CONFIDENCE, Method::REFLECTION, Method::RELAX_DIFFUSE, Method::RELAX_SPECULAR,
+                                           Method::RELAX_DIFFUSE_SPECULAR};
 static_assert(sizeof(kSupportedMethods) / sizeof(kSupportedMethods[0]) == size_t(Method::MAX_NUM),
               "every method must be listed");
 
@@ -22,7 +23,7 @@ static_assert(sizeof(kResultNames) / sizeof(kResultNames[0]) == size_t(Result::M
 
 static const char* const kMethodNames[] = {"SIGMA_SHADOW", "SIGMA_SHADOW_TRANSLUCENCY", "REFERENCE", "TILED_SHADOW",
     "REBLUR_DIFFUSE", "REBLUR_SPECULAR", "REBLUR_DIFFUSE_SPECULAR", "REBLUR_DIFFUSE_OCCLUSION", "REBLUR_SPECULAR_OCCLUSION",
-    "REBLUR_DIFFUSE_SPECULAR_OCCLUSION", "CONFIDENCE", "REFLECTION"};
+    "REBLUR_DIFFUSE_SPECULAR_OCCLUSION", "CONFIDENCE", "REFLECTION", "RELAX_DIFFUSE", "RELAX_SPECULAR", "RELAX_DIFFUSE_SPECULAR"};
 static_assert(sizeof(kMethodNames) / sizeof(kMethodNames[0]) == size_t(Method::MAX_NUM), "name table");
 
 static const char* const kResourceTypeNames[] = {"IN_MV", "IN_NORMAL_ROUGHNESS", "IN_VIEWZ", "IN_SHADOWDATA",
@@ -174,6 +175,11 @@ Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const Confid
 Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const ReflectionSettings& settings)
 {
     return SetSettings(denoiser, identifier, SettingsKind::REFLECTION, &settings);
+}
+
+Result SetMethodSettings(Denoiser& denoiser, Identifier identifier, const RelaxSettings& settings)
+{
+    return SetSettings(denoiser, identifier, SettingsKind::RELAX, &settings);
 }
 
 Result GetComputeDispatches(Denoiser& denoiser, const Identifier* identifiers, uint32_t identifiersNum,

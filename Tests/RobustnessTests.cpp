@@ -411,6 +411,44 @@ MethodTraits TraitsOf(Method method)
         };
         break;
     }
+    case Method::RELAX_DIFFUSE:
+    case Method::RELAX_SPECULAR:
+    case Method::RELAX_DIFFUSE_SPECULAR:
+    {
+        typedef RelaxSettings S;
+        // The single-signal methods run one of their pair's two chains (Source/Relax.cpp).
+        if (method != Method::RELAX_DIFFUSE_SPECULAR)
+            t.coveredBy = Method::RELAX_DIFFUSE_SPECULAR;
+        t.applyDefaults = Apply(S{});
+        t.discoveryVariants = {Edited<S>([](S& s) { s.useConfidenceInputs = true; })};
+        t.settingsCases = {
+            SettingsCase("no accumulation",
+                         Edited<S>([](S& s) {
+                             s.diffuseMaxAccumulatedFrameNum = s.specularMaxAccumulatedFrameNum = 0;
+                             s.diffuseMaxFastAccumulatedFrameNum = s.specularMaxFastAccumulatedFrameNum = 0;
+                         }),
+                         {Edited<S>([](S& s) { s.diffuseMaxFastAccumulatedFrameNum = s.diffuseMaxAccumulatedFrameNum + 1; }),
+                          Edited<S>([](S& s) { s.specularMaxAccumulatedFrameNum = RELAX_MAX_HISTORY_FRAME_NUM + 1; })}),
+            SettingsCase("checkerboard, confidence inputs",
+                         Edited<S>([](S& s) { s.checkerboardMode = CheckerboardMode::WHITE; s.useConfidenceInputs = true; }),
+                         {Edited<S>([](S& s) { s.checkerboardMode = CheckerboardMode(3); })}),
+            SettingsCase("atrousIterationNum 2", Edited<S>([](S& s) { s.atrousIterationNum = 2; }),
+                         {Edited<S>([](S& s) { s.atrousIterationNum = 1; })}),
+            SettingsCase("atrousIterationNum 8, history fix off, anti-firefly on",
+                         Edited<S>([](S& s) { s.atrousIterationNum = 8; s.historyFixFrameNum = 0; s.enableAntiFirefly = true; }),
+                         {Edited<S>([](S& s) { s.atrousIterationNum = 9; }), Edited<S>([](S& s) { s.historyFixFrameNum = 4; })}),
+            SettingsCase("stoppers and anti-lag at their limits",
+                         Edited<S>([](S& s) {
+                             s.diffusePhiLuminance = s.specularPhiLuminance = 16.0f;
+                             s.depthThreshold = s.roughnessFraction = 1.0f;
+                             s.specularLobeAngleSlack = 90.0f;
+                             s.antilagSigmaScale = 16.0f;
+                         }),
+                         {Edited<S>([](S& s) { s.depthThreshold = kNaN; }),
+                          Edited<S>([](S& s) { s.hitDistanceParameters.A = 0.0f; })}),
+        };
+        break;
+    }
     default:
         // A method without an entry here still runs every generic case, with the defaults above.
         break;

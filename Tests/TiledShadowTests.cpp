@@ -324,19 +324,6 @@ size_t CountNonFinite(const std::vector<float>& values)
 }
 
 
-// A float rounded to fp16, as an RG16F texture stores it: to nearest (ties to even) or toward zero
-// (the rounding of a 16-bit float conversion is the implementation's choice; lavapipe truncates).
-float RoundToHalf(float x, bool truncate)
-{
-    if (x == 0.0f || !std::isfinite(x))
-        return x;
-    int exponent = 0;
-    std::frexp(x, &exponent);
-    double quantum = std::ldexp(1.0, std::max(exponent - 11, -24)); // 11 significant bits, denormals 2^-24.
-    double q = double(x) / quantum;
-    return float((truncate ? std::trunc(q) : std::nearbyint(q)) * quantum);
-}
-
 // Inputs of the a-trous passes as the classification leaves them.
 struct FilterInputs
 {
@@ -375,7 +362,7 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
         bool isSample = f.shadow[i * 2 + 1] < 0.0f;
         s[i * 2] = isSample ? -1.0f - f.shadow[i * 2 + 1] : f.shadow[i * 2];
         s[i * 2 + 1] = isSample ? 0.0f : f.shadow[i * 2 + 1];
-        s[i * 2] = RoundToHalf(s[i * 2], truncate);
+        s[i * 2] = test::RoundToHalf(s[i * 2], truncate);
     }
     auto at = [&](const std::vector<float>& a, int x, int y, int c) {
         return x < 0 || y < 0 || x >= w || y >= h ? 0.0 : double(a[(size_t(y) * w + x) * 2 + c]);
@@ -432,8 +419,8 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
                 }
                 if (isLast)
                     out[c] = float(std::min(std::max(result, 0.0), 1.0));
-                next[c * 2] = RoundToHalf(float(result), truncate);
-                next[c * 2 + 1] = RoundToHalf(float(resultVariance), truncate);
+                next[c * 2] = test::RoundToHalf(float(result), truncate);
+                next[c * 2 + 1] = test::RoundToHalf(float(resultVariance), truncate);
             }
         s.swap(next);
     }

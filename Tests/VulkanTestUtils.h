@@ -8,6 +8,7 @@
 #include "RHIVulkan.h"
 #include "VulkanContext.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -117,6 +118,19 @@ inline VkResult DenoiseAndWait(lab::VulkanContext& context, Integration& integra
     for (const auto& binding : textures)
         binding.second->FromUserTexture(pool[binding.first]);
     return submitted;
+}
+
+// A float rounded to fp16, as an RG16F texture stores it: to nearest (ties to even) or toward zero
+// (the rounding of a 16-bit float conversion is the implementation's choice; lavapipe truncates).
+inline float RoundToHalf(float x, bool truncate)
+{
+    if (x == 0.0f || !std::isfinite(x))
+        return x;
+    int exponent = 0;
+    std::frexp(x, &exponent);
+    double quantum = std::ldexp(1.0, std::max(exponent - 11, -24)); // 11 significant bits, denormals 2^-24.
+    double q = double(x) / quantum;
+    return float((truncate ? std::trunc(q) : std::nearbyint(q)) * quantum);
 }
 
 // Reads a pool texture ('type' PERMANENT_POOL or TRANSIENT_POOL) back as the last Denoise of

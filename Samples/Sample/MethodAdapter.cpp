@@ -23,6 +23,7 @@ const AdapterFamily kFamilies[] = {
     {CreateReblurAdapter, kReblurSettingsKey},
     {CreateConfidenceAdapter, kConfidenceSettingsKey},
     {CreateReflectionAdapter, kReflectionSettingsKey},
+    {CreateRelaxAdapter, kRelaxSettingsKey},
 };
 
 } // namespace

@@ -29,6 +29,9 @@ extern const char* const kTiledShadowSettingsKey;
 // REBLUR_* (diffuse / specular, and the occlusion variants).
 std::unique_ptr<MethodAdapter> CreateReblurAdapter(const std::string& method);
 extern const char* const kReblurSettingsKey;
+// RELAX_DIFFUSE, RELAX_SPECULAR, RELAX_DIFFUSE_SPECULAR.
+std::unique_ptr<MethodAdapter> CreateRelaxAdapter(const std::string& method);
+extern const char* const kRelaxSettingsKey;
 
 // CONFIDENCE (also chained in front of a consumer, RunOptions::confidence).
 std::unique_ptr<MethodAdapter> CreateConfidenceAdapter(const std::string& method);

@@ -1,0 +1,76 @@
+// RELAX: helpers shared by the family's passes (include after the pass's .resources.h and
+// CommonFrame.glsl). SVGF (Schied et al. 2017, "Spatiotemporal Variance-Guided Filtering") with the
+// fast-history clamping of document 004.
+#ifndef RELAX_COMMON_GLSL
+#define RELAX_COMMON_GLSL
+
+#define RELAX_TILE_SIZE 8
+
+// Every pass but the classification runs 8x8 groups aligned with the tiles: a group whose tile
+// holds only sky returns before any load.
+bool Relax_IsTileSkipped(texture2D tiles) { return texelFetch(tiles, ivec2(gl_WorkGroupID.xy), 0).x == 0.0; }
+
+bool Relax_IsInImage(ivec2 p) { return all(greaterThanEqual(p, ivec2(0))) && all(lessThan(p, ivec2(gResourceSize))); }
+
+// Input radiance + normalized hit distance: non-finite values become 0, radiance is kept in
+// [0, FP16 max], the hit distance in [0, 1].
+vec4 Relax_SanitizeSignal(vec4 s)
+{
+    s = _NRD_Sanitize(s, 0.0);
+    return clamp(s, vec4(0.0), vec4(vec3(NRD_FP16_MAX), 1.0));
+}
+
+// Surface of a pixel as the stoppers need it: view-space position and normal, linear roughness.
+struct RelaxSurface
+{
+    vec3 X;      // View-space position.
+    vec3 N;      // View-space normal.
+    float z;     // viewZ (0: sky or outside the image).
+    float roughness;
+};
+
+RelaxSurface Relax_LoadSurface(texture2D normalRoughness, texture2D viewZ, ivec2 p)
+{
+    RelaxSurface s;
+    s.z = 0.0;
+    s.X = vec3(0.0);
+    s.N = vec3(0.0, 0.0, 1.0);
+    s.roughness = 1.0;
+    if (!Relax_IsInImage(p))
+        return s;
+    float z = texelFetch(viewZ, p, 0).x;
+    if (_NRD_IsSky(z))
+        return s;
+    vec4 nr = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(normalRoughness, p, 0));
+    s.z = z;
+    s.X = _NRD_ViewPosition(_NRD_PixelUv(p), z);
+    // World -> view: the transpose of viewToWorld's rotation (rigid camera).
+    s.N = normalize(transpose(mat3(gViewToWorld)) * nr.xyz);
+    s.roughness = nr.w;
+    return s;
+}
+
+// Half-angle of the specular lobe (radians) holding most of its energy, for linear roughness r:
+// atan(3 r^2) (the GGX lobe of alpha = r^2 holds 75% of its energy within tan = 3 alpha). Diffuse
+// uses r = 1.
+float Relax_LobeHalfAngle(float roughness) { return atan(3.0 * roughness * roughness); }
+
+// Stopper weights, each exactly 0 beyond its threshold so that hard edges stay hard.
+float Relax_NormalWeight(vec3 Nc, vec3 Ni, float maxAngle)
+{
+    float cosAngle = clamp(dot(Nc, Ni), -1.0, 1.0);
+    return clamp(1.0 - acos(cosAngle) / maxAngle, 0.0, 1.0);
+}
+
+float Relax_PlaneWeight(RelaxSurface c, vec3 Xi, float relativeThreshold)
+{
+    float distance = abs(dot(c.N, Xi - c.X));
+    return clamp(1.0 - distance / (relativeThreshold * c.z), 0.0, 1.0);
+}
+
+float Relax_RoughnessWeight(float rc, float ri, float fraction)
+{
+    return clamp(1.0 - abs(rc - ri) / (fraction * rc + 0.01), 0.0, 1.0);
+}
+
+#endif

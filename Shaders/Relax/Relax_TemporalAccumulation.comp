@@ -1,0 +1,250 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
+#extension GL_EXT_control_flow_attributes : require
+
+// RELAX temporal accumulation (document 004, RELAX; SVGF section 4.1):
+// - the history is reprojected with surface motion (Reprojection.glsl); each of the 2x2 bilinear
+//   taps is kept only where its previous viewZ matches the point's (per-tap disocclusion), the kept
+//   weights renormalized; specular also follows the virtual motion of the reflection;
+// - slow history: radiance, hit distance and the second luminance moment with alpha
+//   1 / (n + 1), n = min(history length, gMaxAccumulatedFrameNum); fast history: radiance with
+//   n = min(history length, gMaxFastAccumulatedFrameNum);
+// - the fast history is clamped to this frame's 3x3 input neighbourhood before it is blended;
+// - history that is not finite restarts;
+// - anti-lag: a 5x5 box mean of this frame's input luminance far from the same box of the previous
+//   fast history (beyond gAntilagSigma standard deviations of such a mean, and 10% of the larger)
+//   shortens both histories;
+// - specular: the history of glossy surfaces is shortened by the parallax between the surface and
+//   virtual reprojections, n <= max / (1 + parallax in pixels * (1 - roughness)^2);
+// - optional confidence input: the history length is multiplied by it;
+// - checkerboard: pixels not traced this frame take the mean of their traced 4-neighbours on the
+//   same surface when they have no history, else keep the history unchanged.
+#include "Bindings.glsl"
+#include "Relax_Constants.h"
+#include "Relax_TemporalAccumulation.resources.h"
+#include "CommonFrame.glsl"
+#include "Relax_Common.glsl"
+#include "Reprojection.glsl"
+
+// Half-width of the fast history's clamping box, in standard deviations of this frame's 3x3 input.
+#define RELAX_FAST_CLAMP_SIGMA 2.0
+
+bool IsTraced(ivec2 p)
+{
+    return gCheckerboard == 0u || ((uint(p.x + p.y) + gFrameIndex + gCheckerboard) & 1u) == 0u;
+}
+
+// Bilinear history at 'uvPrev' over the taps that hold the same surface, renormalized; 'footprint'
+// is the kept part of the bilinear weights (0: disoccluded), 'historyLength' in frames.
+void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out vec4 fast, out float historyLength,
+               out float footprint)
+{
+    ivec2 size = ivec2(gResourceSize);
+    NrdFootprint f = _NRD_Footprint(uvPrev, vec2(size));
+    vec4 prevViewZ = _NRD_GatherFootprint(gPrev_ViewZ, f.origin, size);
+    // Sky was stored as 0: never a match.
+    prevViewZ = mix(prevViewZ, vec4(-1e30), lessThanEqual(prevViewZ, vec4(0.0)));
+    NrdReprojection r = _NRD_Reprojection(uvPrev, size, prevViewZ, zExpected, tolerance);
+    // A reprojection onto pixel centres (a still camera) must not blur the history through
+    // rounding: fractions within 1e-3 of a texel snap to it.
+    vec2 snapped = mix(r.footprint.f, round(r.footprint.f), lessThan(abs(r.footprint.f - round(r.footprint.f)), vec2(1e-3)));
+    r.weights = _NRD_BilinearWeights(snapped) * _NRD_TapValidity(r.footprint.origin, size, prevViewZ, zExpected, tolerance);
+    r.footprintWeight = dot(r.weights, vec4(1.0));
+    footprint = gResetHistory != 0u || !(r.footprintWeight > 1e-4) ? 0.0 : r.footprintWeight;
+    slow = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Slow, r) : vec4(0.0);
+    fast = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Fast, r) : vec4(0.0);
+    historyLength = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Length, r).x * NRD_HISTORY_LENGTH_MAX : 0.0;
+    // History that is not finite (or not a radiance) restarts.
+    if (!_NRD_IsFinite(slow) || !_NRD_IsFinite(fast) || !_NRD_IsFinite(historyLength) || any(lessThan(slow, vec4(0.0))) ||
+        any(lessThan(fast, vec4(0.0))))
+    {
+        footprint = 0.0;
+        slow = vec4(0.0);
+        fast = vec4(0.0);
+        historyLength = 0.0;
+    }
+    historyLength = clamp(historyLength, 0.0, NRD_HISTORY_LENGTH_MAX);
+}
+
+void main()
+{
+    if (Relax_IsTileSkipped(gIn_Tiles))
+        return;
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    RelaxSurface s = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, pixel);
+    if (s.z == 0.0)
+        return; // Sky or outside: not denoised, not written.
+
+    // This frame's sample (checkerboard: reconstructed where not traced).
+    bool isTraced = IsTraced(pixel);
+    vec4 signal = vec4(0.0);
+    bool hasSample = isTraced;
+    if (isTraced)
+        signal = Relax_SanitizeSignal(texelFetch(gIn_Signal, pixel, 0));
+    else
+    {
+        float weightSum = 0.0;
+        const ivec2 kCross[4] = ivec2[4](ivec2(-1, 0), ivec2(1, 0), ivec2(0, -1), ivec2(0, 1));
+        [[unroll]] for (int i = 0; i < 4; i++)
+        {
+            ivec2 q = pixel + kCross[i];
+            RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
+            float w = n.z == 0.0 ? 0.0 : Relax_PlaneWeight(s, n.X, 0.05);
+            signal += w * (w > 0.0 ? Relax_SanitizeSignal(texelFetch(gIn_Signal, q, 0)) : vec4(0.0));
+            weightSum += w;
+        }
+        hasSample = weightSum > 0.0;
+        signal = hasSample ? signal / weightSum : vec4(0.0);
+    }
+
+    // Reprojection with per-tap disocclusion (Shaders/Include/Reprojection.glsl).
+    vec2 uv = _NRD_PixelUv(pixel);
+    vec3 worldPos = _NRD_WorldPosition(uv, s.z);
+    vec3 worldPosPrev;
+    vec2 uvPrev = _NRD_PreviousUv(uv, worldPos, texelFetch(gIn_MV, pixel, 0).xyz, worldPosPrev);
+    float zExpected = _NRD_PreviousViewZ(worldPosPrev);
+    float NoV = abs(dot(s.N, normalize(s.X)));
+    float tolerance = _NRD_DisocclusionTolerance(s.z, zExpected, NoV, gDisocclusionThreshold, gProjectY);
+    ivec2 size = ivec2(gResourceSize);
+
+    vec4 prevSlow, prevFast;
+    float prevLength, footprint;
+    Reproject(uvPrev, zExpected, tolerance, prevSlow, prevFast, prevLength, footprint);
+#if RELAX_SPECULAR
+    // Virtual motion: reflections move with the reflected point's image, the more so the glossier
+    // the lobe. The virtual history is taken where it holds the same surface, blended in by the
+    // lobe's dominant-direction factor; their parallax shortens the glossy history.
+    float hitDist = _NRD_GetHitDist(hasSample ? signal.w : 1.0, s.z, gHitDistParams, s.roughness);
+    vec2 uvPrevVirtual = _NRD_VirtualPreviousUv(worldPos, worldPosPrev - worldPos, _NRD_CameraPosition(), hitDist,
+                                                s.roughness, gWorldToClipPrev);
+    vec4 virtualSlow, virtualFast;
+    float virtualLength, virtualFootprint;
+    Reproject(uvPrevVirtual, zExpected, tolerance, virtualSlow, virtualFast, virtualLength, virtualFootprint);
+    float virtualAmount = virtualFootprint > 0.5 ? _NRD_SpecularDominantFactor(s.roughness) : 0.0;
+    if (footprint <= 1e-4)
+        virtualAmount = virtualFootprint > 1e-4 ? 1.0 : 0.0;
+    prevSlow = mix(prevSlow, virtualSlow, virtualAmount);
+    prevFast = mix(prevFast, virtualFast, virtualAmount);
+    prevLength = mix(prevLength, virtualLength, virtualAmount);
+    footprint = max(footprint, virtualFootprint * virtualAmount);
+    float parallax = _NRD_ParallaxInPixels(uvPrev, uvPrevVirtual, vec2(gResourceSize));
+#endif
+    bool hasHistory = footprint > 1e-4;
+    if (!hasHistory)
+        prevLength = 0.0;
+
+    // The fast history follows "now": it is clamped per channel to this frame's 3x3 input
+    // neighbourhood (traced pixels on the same surface, as the history fix's clamping box; mean +-
+    // RELAX_FAST_CLAMP_SIGMA standard deviations), so that a lighting change, or absurd history left
+    // by out-of-range input, is gone within a frame; its second moment is bounded by the same box. The slow history follows the fast one (history fix).
+    if (hasHistory && hasSample)
+    {
+        vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+        float count = 0.0;
+        [[unroll]] for (int j = -1; j <= 1; j++)
+            [[unroll]] for (int i = -1; i <= 1; i++)
+            {
+                ivec2 q = pixel + ivec2(i, j);
+                if (!IsTraced(q))
+                    continue;
+                RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.N, n.N) < 0.8)
+                    continue;
+                vec3 c = Relax_SanitizeSignal(texelFetch(gIn_Signal, q, 0)).rgb;
+                m1 += c;
+                m2 += c * c;
+                count += 1.0;
+            }
+        if (count > 0.0)
+        {
+            m1 /= count;
+            vec3 sigma = sqrt(max(m2 / count - m1 * m1, vec3(0.0)));
+            vec3 lo = max(m1 - RELAX_FAST_CLAMP_SIGMA * sigma, vec3(0.0)), hi = m1 + RELAX_FAST_CLAMP_SIGMA * sigma;
+            prevFast.rgb = clamp(prevFast.rgb, lo, hi);
+            float lumaHi = _NRD_Luminance(hi), lumaSigma = _NRD_Luminance(sigma);
+            prevFast.w = min(prevFast.w, sqrt(lumaHi * lumaHi + lumaSigma * lumaSigma));
+        }
+    }
+#if RELAX_CONFIDENCE
+    prevLength *= clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
+#endif
+
+#if RELAX_SPECULAR
+    // What the blend of surface and virtual history still misses grows with their parallax.
+    float glossiness = (1.0 - s.roughness) * (1.0 - s.roughness);
+    float maxSlow = gMaxAccumulatedFrameNum / (1.0 + parallax * glossiness);
+    float maxFast = min(gMaxFastAccumulatedFrameNum, maxSlow);
+#else
+    float maxSlow = gMaxAccumulatedFrameNum;
+    float maxFast = gMaxFastAccumulatedFrameNum;
+#endif
+
+    // Anti-lag: this frame's 5x5 input mean against the 5x5 mean of the previous fast history
+    // around the reprojected point (the same taps on both sides, so spatial structure cancels).
+    if (hasHistory && hasSample && gAntilagSigma > 0.0)
+    {
+        ivec2 prevCenter = ivec2(floor(uvPrev * vec2(gResourceSize)));
+        float sum = 0.0, sumSq = 0.0, sumPrev = 0.0, count = 0.0;
+        for (int dy = -2; dy <= 2; dy++)
+            for (int dx = -2; dx <= 2; dx++)
+            {
+                ivec2 q = pixel + ivec2(dx, dy), qPrev = prevCenter + ivec2(dx, dy);
+                if (!Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q))
+                    continue;
+                float zq = texelFetch(gIn_ViewZ, q, 0).x;
+                float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
+                if (_NRD_IsSky(zq) || abs(zq - s.z) > 0.05 * s.z || !(zPrev > 0.0) || abs(zPrev - zExpected) > 0.05 * zExpected)
+                    continue;
+                float l = _NRD_Luminance(Relax_SanitizeSignal(texelFetch(gIn_Signal, q, 0)).rgb);
+                sum += l;
+                sumSq += l * l;
+                sumPrev += _NRD_Luminance(_NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0).rgb, 0.0));
+                count += 1.0;
+            }
+        if (count > 0.0)
+        {
+            float mean = sum / count, meanPrev = sumPrev / count;
+            float slowLuma = _NRD_Luminance(prevSlow.rgb);
+            // Standard deviation of the mean of 'count' samples, from the larger of the history's
+            // variance of one sample and this frame's spatial variance (a light that turns on had no
+            // temporal variance; a dark, sparse signal may have no spatial variance in 5x5).
+            float temporalVariance = max(prevFast.w * prevFast.w - slowLuma * slowLuma, 0.0);
+            float spatialVariance = max(sumSq / count - mean * mean, 0.0);
+            float sigma = sqrt(max(temporalVariance, spatialVariance) / count);
+            float delta = abs(mean - meanPrev);
+            float threshold = max(gAntilagSigma * sigma, 0.1 * max(mean, meanPrev)) + 1e-6;
+            float excess = clamp((delta - threshold) / threshold, 0.0, 1.0);
+            prevLength *= 1.0 - excess;
+            maxFast *= 1.0 - excess;
+        }
+    }
+
+    float n = min(prevLength, maxSlow);
+    float nFast = min(prevLength, maxFast);
+    vec4 slow, fast;
+    float historyLength;
+    if (!hasSample)
+    {
+        // Not traced, nothing to reconstruct from: keep the history (or nothing).
+        slow = prevSlow;
+        fast = prevFast;
+        historyLength = prevLength;
+    }
+    else
+    {
+        float alpha = hasHistory ? 1.0 / (n + 1.0) : 1.0;
+        float alphaFast = hasHistory ? 1.0 / (nFast + 1.0) : 1.0;
+        float luminance = _NRD_Luminance(signal.rgb);
+        slow.rgb = mix(prevSlow.rgb, signal.rgb, alpha);
+        // Hit distances vary more slowly than the radiance they come with; keep them responsive.
+        slow.w = mix(prevSlow.w, signal.w, max(alpha, 0.1));
+        fast.rgb = mix(prevFast.rgb, signal.rgb, alphaFast);
+        fast.w = sqrt(mix(prevFast.w * prevFast.w, luminance * luminance, alpha));
+        historyLength = n + 1.0;
+    }
+    // pixel is inside the image (Relax_LoadSurface returned a surface).
+    imageStore(gOut_Slow, pixel, _NRD_ClampToHalf(slow));
+    imageStore(gOut_Fast, pixel, _NRD_ClampToHalf(fast));
+    imageStore(gOut_Length, pixel, vec4(_NRD_PackHistoryLength(historyLength)));
+}
