@@ -419,6 +419,10 @@ MethodTraits TraitsOf(Method method)
         // The single-signal methods run one of their pair's two chains (Source/Relax.cpp).
         if (method != Method::RELAX_DIFFUSE_SPECULAR)
             t.coveredBy = Method::RELAX_DIFFUSE_SPECULAR;
+        // Measured: 11 to 13 frames after out-of-range values (the fast history is clamped to the
+        // input, the slow one to the fast one), 20 after a whole image of zero or NaN (the fast
+        // history drops to 0 with the input and climbs back at its own rate); documented with a margin.
+        t.recoveryFrames = 24;
         t.applyDefaults = Apply(S{});
         t.discoveryVariants = {Edited<S>([](S& s) { s.useConfidenceInputs = true; })};
         t.settingsCases = {

@@ -74,6 +74,16 @@ Tap LoadTap(ivec2 p)
     t.radianceVariance = sRadianceVariance[i];
     return t;
 }
+
+// viewZ (0: no surface) and variance of a tap, for the variance prefilter.
+vec2 LoadDepthVariance(ivec2 p)
+{
+    ivec2 local = p - (ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - BORDER);
+    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, ivec2(REGION))))
+        return vec2(0.0);
+    int i = local.y * REGION + local.x;
+    return vec2(sNormalZ[i].w, sRadianceVariance[i].w);
+}
 #else
 Tap LoadTap(ivec2 p)
 {
@@ -81,6 +91,14 @@ Tap LoadTap(ivec2 p)
     t.surface = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, p);
     t.radianceVariance = t.surface.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
     return t;
+}
+
+vec2 LoadDepthVariance(ivec2 p)
+{
+    if (!Relax_IsInImage(p))
+        return vec2(0.0);
+    float z = texelFetch(gIn_ViewZ, p, 0).x;
+    return _NRD_IsSky(z) ? vec2(0.0) : vec2(z, texelFetch(gIn_RadianceVariance, p, 0).w);
 }
 #endif
 
@@ -102,14 +120,14 @@ void main()
 
     // Variance prefiltered with a 3x3 Gaussian (1/4, 1/8, 1/16) of the neighbours on a surface.
     float variance = 0.0, varianceWeight = 0.0;
-    [[unroll]] for (int j = -1; j <= 1; j++)
-        [[unroll]] for (int i = -1; i <= 1; i++)
+    for (int j = -1; j <= 1; j++)
+        for (int i = -1; i <= 1; i++)
         {
-            Tap t = LoadTap(pixel + ivec2(i, j) * step);
+            vec2 zv = LoadDepthVariance(pixel + ivec2(i, j) * step);
             float k = (i == 0 ? 0.5 : 0.25) * (j == 0 ? 0.5 : 0.25);
-            if (t.surface.z == 0.0)
+            if (zv.x == 0.0)
                 continue;
-            variance += k * t.radianceVariance.w;
+            variance += k * zv.y;
             varianceWeight += k;
         }
     variance /= varianceWeight;
@@ -126,8 +144,9 @@ void main()
 
     vec3 sum = vec3(0.0);
     float varianceSum = 0.0, weightSum = 0.0, hitSum = 0.0;
-    [[unroll]] for (int j = -2; j <= 2; j++)
-        [[unroll]] for (int i = -2; i <= 2; i++)
+    // Plain loops: unrolled, the 25 surface loads make the shader several times larger to compile.
+    for (int j = -2; j <= 2; j++)
+        for (int i = -2; i <= 2; i++)
         {
             ivec2 q = pixel + ivec2(i, j) * step;
             float w;
