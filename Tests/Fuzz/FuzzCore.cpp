@@ -276,14 +276,48 @@ nrd::ReflectionSettings DecodeReflection(FuzzedDataProvider& in)
     return s;
 }
 
+nrd::RelaxSettings DecodeRelax(FuzzedDataProvider& in)
+{
+    nrd::RelaxSettings s;
+    if (in.ConsumeIntegralInRange<uint8_t>(0, 7) == 0)
+    {
+        s = DecodeRaw<nrd::RelaxSettings>(in);
+        s.enableAntiFirefly = in.ConsumeBool(); // A bool other than 0 / 1 is the caller's UB.
+        s.enableRoughnessEdgeStopping = in.ConsumeBool();
+        s.useConfidenceInputs = in.ConsumeBool();
+        return s;
+    }
+    uint32_t edits = in.ConsumeIntegralInRange<uint32_t>(0, 4);
+    for (uint32_t e = 0; e < edits; e++)
+    {
+        switch (in.ConsumeIntegralInRange<uint8_t>(0, 11))
+        {
+        case 0: s.diffuseMaxAccumulatedFrameNum = InterestingUint(in); break;
+        case 1: s.specularMaxFastAccumulatedFrameNum = InterestingUint(in); break;
+        case 2: s.historyFixFrameNum = InterestingUint(in); break;
+        case 3: s.historyFixStride = InterestingFloat(in); break;
+        case 4: s.historyClampingColorBoxSigmaScale = InterestingFloat(in); break;
+        case 5: s.antilagSigmaScale = InterestingFloat(in); break;
+        case 6: s.atrousIterationNum = InterestingUint(in); break;
+        case 7: s.diffusePhiLuminance = InterestingFloat(in); break;
+        case 8: s.specularLobeAngleSlack = InterestingFloat(in); break;
+        case 9: s.depthThreshold = InterestingFloat(in); break;
+        case 10: s.hitDistanceParameters.A = InterestingFloat(in); break;
+        default: s.checkerboardMode = nrd::CheckerboardMode(in.ConsumeIntegral<uint8_t>()); break;
+        }
+    }
+    return s;
+}
+
 nrd::Result CallSetMethodSettings(FuzzedDataProvider& in, nrd::Denoiser& denoiser, nrd::Identifier identifier)
 {
-    switch (in.ConsumeIntegralInRange<uint8_t>(0, 4))
+    switch (in.ConsumeIntegralInRange<uint8_t>(0, 5))
     {
     case 0: return nrd::SetMethodSettings(denoiser, identifier, DecodeSigma(in));
     case 1: return nrd::SetMethodSettings(denoiser, identifier, DecodeReference(in));
     case 2: return nrd::SetMethodSettings(denoiser, identifier, DecodeConfidence(in));
     case 3: return nrd::SetMethodSettings(denoiser, identifier, DecodeReflection(in));
+    case 4: return nrd::SetMethodSettings(denoiser, identifier, DecodeRelax(in));
     default: return nrd::SetMethodSettings(denoiser, identifier, DecodeTiledShadow(in));
     }
 }
