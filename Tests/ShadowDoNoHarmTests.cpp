@@ -3,13 +3,18 @@
 // input's ("do no harm"), and on scenes where something moves an input / output relMSE ratio at
 // least half of what perfect temporal reuse reaches (`--bounds`' oracle, ReuseBounds.h).
 //
-// Not every scene meets it yet: the combinations in kShortfalls do not (measured on lavapipe when
-// written, re-measured where the scene lab's fix of rotated boxes and quads changed the scenes; Shaders/TiledShadow/README.md and the README's SIGMA section give the causes). Those
-// assert their measured relMSE ratio (input / output, 5% below) and FLIP ratio (output / input, 5%
-// above) instead, so that they can only improve; move a line out of the table when it meets the bar.
+// Not every scene meets it yet: the combinations in kShortfalls do not. Those assert their measured
+// relMSE ratio (input / output, 5% below; 10% at 256x256) and FLIP ratio (output / input, 5% above;
+// 10% at 256x256) instead, so that they can only improve; move a line out of the table when it
+// meets the bar. The 64x64 and 128x128 figures were measured on lavapipe (CI's device), the
+// 256x256 ones on an NVIDIA H100 (the GPU and lavapipe differ in the last bits of the lab's
+// renders, hence the wider margin). The triangle-mesh scenes are included: TILED_SHADOW falls far
+// short on mesh_engine and mesh_thin (Shaders/TiledShadow/README.md, "Triangle-mesh scenes").
 //
-// 64x64 and 128x128, in CI (label quality). 24 frames, the first 8 a warm-up; the truth takes 32
-// samples per pixel (as `Samples/Scripts/shadow_table.py`). The frame cache makes reruns cheap.
+// 64x64 and 128x128 in CI (label quality, one test case per scene and size); 256x256 hidden
+// ([size256], ctest entry nrd_shadow_quality_tests_256, label slow). 24 frames, the first 8 a
+// warm-up; the truth takes 32 samples per pixel (as `Samples/Scripts/shadow_table.py`). The frame
+// cache makes reruns cheap.
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
@@ -35,34 +40,59 @@ struct Shortfall
 
 // clang-format off
 const Shortfall kShortfalls[] = {
-    {"camera_rotation", "TILED_SHADOW", 64, 0.43, 1.33}, // ratio 0.457 (oracle 1.24), FLIP 0.0062 -> 0.0078
-    {"camera_translation", "TILED_SHADOW", 64, 0.37, 1.35}, // ratio 0.389 (oracle 1.65), FLIP 0.0057 -> 0.0074
-    {"disocclusion", "TILED_SHADOW", 64, 0.87, 0.83}, // ratio 0.921 (oracle 5.70), FLIP 0.0051 -> 0.0038
-    {"fast_orbit", "SIGMA_SHADOW", 64, 0.95, 1.05}, // ratio 1.000 (oracle 1.11), FLIP 0.0076 -> 0.0076
-    {"fast_orbit", "TILED_SHADOW", 64, 0.29, 1.45}, // ratio 0.302 (oracle 1.11), FLIP 0.0076 -> 0.0104
-    {"moving_light", "SIGMA_SHADOW", 64, 0.96, 1.85}, // ratio 1.008 (oracle 0.66), FLIP 0.0194 -> 0.0341
-    {"moving_light", "TILED_SHADOW", 64, 0.24, 1.59}, // ratio 0.256 (oracle 0.66), FLIP 0.0194 -> 0.0293
-    {"moving_occluder", "SIGMA_SHADOW", 64, 1.86, 1.31}, // ratio 1.961 (oracle 1.53), FLIP 0.0127 -> 0.0158
-    {"moving_occluder", "TILED_SHADOW", 64, 0.95, 1.43}, // ratio 1.001 (oracle 1.98), FLIP 0.0138 -> 0.0182
-    {"toggling_light", "SIGMA_SHADOW", 64, 1.92, 2.69}, // ratio 2.023 (oracle 4.62), FLIP 0.0106 -> 0.0272
-    {"toggling_light", "TILED_SHADOW", 64, 0.33, 1.66}, // ratio 0.348 (oracle 4.62), FLIP 0.0106 -> 0.0167
-    {"venetian_blinds", "SIGMA_SHADOW", 64, 0.24, 2.23}, // ratio 0.255 (oracle 0.97), FLIP 0.0176 -> 0.0374
-    {"venetian_blinds", "TILED_SHADOW", 64, 0.08, 2.39}, // ratio 0.087 (oracle 0.97), FLIP 0.0176 -> 0.0401
-    {"camera_rotation", "TILED_SHADOW", 128, 1.05, 1.09}, // ratio 1.101 (oracle 1.89), FLIP 0.0056 -> 0.0058
-    {"camera_translation", "SIGMA_SHADOW", 128, 0.98, 1.04}, // ratio 1.034 (oracle 2.58), FLIP 0.0054 -> 0.0053
-    {"camera_translation", "TILED_SHADOW", 128, 0.82, 1.06}, // ratio 0.863 (oracle 2.58), FLIP 0.0054 -> 0.0054
-    {"fast_orbit", "SIGMA_SHADOW", 128, 0.98, 1.05}, // ratio 1.032 (oracle 2.09), FLIP 0.0067 -> 0.0067
-    {"fast_orbit", "TILED_SHADOW", 128, 0.65, 1.19}, // ratio 0.684 (oracle 2.00), FLIP 0.0064 -> 0.0073
-    {"moving_light", "SIGMA_SHADOW", 128, 1.23, 1.52}, // ratio 1.291 (oracle 0.65), FLIP 0.0173 -> 0.0250
-    {"moving_light", "TILED_SHADOW", 128, 1.25, 1.17}, // ratio 1.316 (oracle 0.65), FLIP 0.0173 -> 0.0192
+    {"camera_rotation", "TILED_SHADOW", 64, 0.79, 1.15}, // ratio 0.833 (oracle 1.31), FLIP 0.0063 -> 0.0069
+    {"camera_translation", "TILED_SHADOW", 64, 0.77, 1.13}, // ratio 0.813 (oracle 1.65), FLIP 0.0057 -> 0.0061
+    {"disocclusion", "TILED_SHADOW", 64, 1.20, 1.00}, // ratio 1.267 (oracle 5.70), FLIP 0.0051 -> 0.0035
+    {"fast_orbit", "TILED_SHADOW", 64, 0.52, 1.18}, // ratio 0.552 (oracle 1.09), FLIP 0.0078 -> 0.0087
+    {"mesh_character", "SIGMA_SHADOW", 64, 1.10, 1.63}, // ratio 1.165 (oracle 0.43), FLIP 0.0274 -> 0.0424
+    {"mesh_character", "TILED_SHADOW", 64, 1.18, 1.35}, // ratio 1.246 (oracle 0.43), FLIP 0.0274 -> 0.0350
+    {"mesh_engine", "TILED_SHADOW", 64, 0.02, 4.97}, // ratio 0.027 (oracle 1.23), FLIP 0.0056 -> 0.0265
+    {"mesh_thin", "SIGMA_SHADOW", 64, 0.75, 1.97}, // ratio 0.794 (oracle 0.86), FLIP 0.0169 -> 0.0316
+    {"mesh_thin", "TILED_SHADOW", 64, 0.06, 2.60}, // ratio 0.066 (oracle 0.86), FLIP 0.0169 -> 0.0418
+    {"moving_light", "SIGMA_SHADOW", 64, 0.95, 1.90}, // ratio 1.002 (oracle 0.54), FLIP 0.0192 -> 0.0346
+    {"moving_light", "TILED_SHADOW", 64, 0.33, 1.38}, // ratio 0.350 (oracle 0.54), FLIP 0.0192 -> 0.0251
+    {"moving_occluder", "SIGMA_SHADOW", 64, 2.24, 1.17}, // ratio 2.362 (oracle 1.98), FLIP 0.0138 -> 0.0153
+    {"moving_occluder", "TILED_SHADOW", 64, 1.14, 1.21}, // ratio 1.208 (oracle 1.98), FLIP 0.0138 -> 0.0159
+    {"toggling_light", "SIGMA_SHADOW", 64, 2.37, 2.50}, // ratio 2.496 (oracle 5.22), FLIP 0.0109 -> 0.0259
+    {"toggling_light", "TILED_SHADOW", 64, 0.40, 1.50}, // ratio 0.427 (oracle 5.22), FLIP 0.0109 -> 0.0155
+    {"venetian_blinds", "SIGMA_SHADOW", 64, 0.55, 2.22}, // ratio 0.579 (oracle 1.53), FLIP 0.0220 -> 0.0464
+    {"venetian_blinds", "TILED_SHADOW", 64, 0.31, 2.20}, // ratio 0.331 (oracle 1.53), FLIP 0.0220 -> 0.0459
+    {"camera_rotation", "TILED_SHADOW", 128, 1.03, 1.09}, // ratio 1.086 (oracle 1.75), FLIP 0.0056 -> 0.0058
+    {"camera_translation", "SIGMA_SHADOW", 128, 1.01, 1.00}, // ratio 1.068 (oracle 2.57), FLIP 0.0054 -> 0.0054
+    {"camera_translation", "TILED_SHADOW", 128, 1.29, 1.07}, // ratio 1.358 (oracle 2.57), FLIP 0.0054 -> 0.0055
+    {"fast_orbit", "SIGMA_SHADOW", 128, 0.98, 1.00}, // ratio 1.032 (oracle 2.09), FLIP 0.0067 -> 0.0067
+    {"fast_orbit", "TILED_SHADOW", 128, 0.96, 1.10}, // ratio 1.019 (oracle 2.09), FLIP 0.0067 -> 0.0070
+    {"mesh_character", "SIGMA_SHADOW", 128, 1.66, 1.27}, // ratio 1.756 (oracle 0.42), FLIP 0.0237 -> 0.0286
+    {"mesh_character", "TILED_SHADOW", 128, 2.84, 1.15}, // ratio 2.993 (oracle 0.42), FLIP 0.0237 -> 0.0259
+    {"mesh_engine", "TILED_SHADOW", 128, 0.06, 3.82}, // ratio 0.067 (oracle 1.81), FLIP 0.0049 -> 0.0178
+    {"mesh_thin", "SIGMA_SHADOW", 128, 0.82, 1.76}, // ratio 0.865 (oracle 0.90), FLIP 0.0169 -> 0.0283
+    {"mesh_thin", "TILED_SHADOW", 128, 0.14, 2.06}, // ratio 0.157 (oracle 0.90), FLIP 0.0169 -> 0.0331
+    {"moving_light", "SIGMA_SHADOW", 128, 1.19, 1.51}, // ratio 1.256 (oracle 0.54), FLIP 0.0172 -> 0.0246
+    {"moving_light", "TILED_SHADOW", 128, 1.63, 1.13}, // ratio 1.726 (oracle 0.54), FLIP 0.0172 -> 0.0185
     {"moving_occluder", "SIGMA_SHADOW", 128, 1.59, 1.17}, // ratio 1.684 (oracle 1.77), FLIP 0.0122 -> 0.0135
-    {"moving_occluder", "TILED_SHADOW", 128, 2.20, 1.12}, // ratio 2.322 (oracle 1.77), FLIP 0.0122 -> 0.0128
-    {"toggling_light", "SIGMA_SHADOW", 128, 3.37, 2.09}, // ratio 3.547 (oracle 5.06), FLIP 0.0088 -> 0.0175
-    {"toggling_light", "TILED_SHADOW", 128, 1.46, 1.26}, // ratio 1.532 (oracle 5.06), FLIP 0.0088 -> 0.0106
-    {"venetian_blinds", "SIGMA_SHADOW", 128, 0.13, 2.24}, // ratio 0.132 (oracle 0.84), FLIP 0.0158 -> 0.0338
-    {"venetian_blinds", "TILED_SHADOW", 128, 0.06, 2.52}, // ratio 0.062 (oracle 0.84), FLIP 0.0158 -> 0.0380
+    {"toggling_light", "SIGMA_SHADOW", 128, 3.90, 1.76}, // ratio 4.114 (oracle 5.21), FLIP 0.0090 -> 0.0150
+    {"toggling_light", "TILED_SHADOW", 128, 1.58, 1.20}, // ratio 1.669 (oracle 5.21), FLIP 0.0090 -> 0.0102
+    {"venetian_blinds", "SIGMA_SHADOW", 128, 0.44, 2.08}, // ratio 0.473 (oracle 1.43), FLIP 0.0228 -> 0.0450
+    {"venetian_blinds", "TILED_SHADOW", 128, 0.29, 2.04}, // ratio 0.307 (oracle 1.43), FLIP 0.0228 -> 0.0441
+    {"camera_rotation", "SIGMA_SHADOW", 256, 1.22, 1.00}, // ratio 1.359 (oracle 3.12), FLIP 0.0047 -> 0.0043
+    {"camera_rotation", "TILED_SHADOW", 256, 1.38, 1.13}, // ratio 1.541 (oracle 3.12), FLIP 0.0047 -> 0.0048
+    {"camera_translation", "SIGMA_SHADOW", 256, 1.19, 1.00}, // ratio 1.332 (oracle 4.01), FLIP 0.0048 -> 0.0044
+    {"camera_translation", "TILED_SHADOW", 256, 1.55, 1.17}, // ratio 1.724 (oracle 4.01), FLIP 0.0048 -> 0.0051
+    {"fast_orbit", "SIGMA_SHADOW", 256, 1.07, 1.00}, // ratio 1.192 (oracle 3.67), FLIP 0.0052 -> 0.0049
+    {"fast_orbit", "TILED_SHADOW", 256, 1.46, 1.17}, // ratio 1.624 (oracle 3.67), FLIP 0.0052 -> 0.0055
+    {"mesh_engine", "SIGMA_SHADOW", 256, 0.96, 1.00}, // ratio 1.068 (oracle 2.58), FLIP 0.0040 -> 0.0040
+    {"mesh_engine", "TILED_SHADOW", 256, 0.18, 2.43}, // ratio 0.209 (oracle 2.58), FLIP 0.0040 -> 0.0088
+    {"mesh_thin", "SIGMA_SHADOW", 256, 1.09, 1.74}, // ratio 1.217 (oracle 0.87), FLIP 0.0153 -> 0.0242
+    {"mesh_thin", "TILED_SHADOW", 256, 0.41, 1.74}, // ratio 0.466 (oracle 0.87), FLIP 0.0153 -> 0.0241
+    {"moving_light", "SIGMA_SHADOW", 256, 1.68, 1.19}, // ratio 1.875 (oracle 0.51), FLIP 0.0150 -> 0.0162
+    {"toggling_light", "SIGMA_SHADOW", 256, 6.09, 1.16}, // ratio 6.774 (oracle 5.41), FLIP 0.0078 -> 0.0082
+    {"venetian_blinds", "SIGMA_SHADOW", 256, 0.29, 1.85}, // ratio 0.333 (oracle 1.29), FLIP 0.0213 -> 0.0358
+    {"venetian_blinds", "TILED_SHADOW", 256, 0.30, 2.02}, // ratio 0.335 (oracle 1.29), FLIP 0.0213 -> 0.0391
 };
 // clang-format on
+
+// Relative tolerance of "no higher than the input's" for the rounding of the metrics' sums.
+constexpr double kRounding = 1e-4;
 
 const Shortfall* FindShortfall(const std::string& scene, const char* method, uint32_t size)
 {
@@ -117,8 +147,9 @@ void CheckDoNoHarm(const std::string& name, uint32_t size)
             CHECK(m.flipDenoised <= shortfall->maxFlipRatio * m.flipNoisy);
             continue;
         }
-        CHECK(m.relmseDenoised <= m.relmseNoisy);
-        CHECK(m.flipDenoised <= m.flipNoisy);
+        // (Within float rounding: a method that passes its input through must pass.)
+        CHECK(m.relmseDenoised <= m.relmseNoisy * (1.0 + kRounding));
+        CHECK(m.flipDenoised <= m.flipNoisy * (1.0 + kRounding));
         if (moving)
         {
             REQUIRE(m.boundOracle > 0.0);
@@ -137,19 +168,18 @@ struct DoNoHarmInvoker : Catch::ITestInvoker
     void invoke() const override { CheckDoNoHarm(scene, size); }
 };
 
+// 64x64 and 128x128 run in CI (tag [quality]); 256x256 is hidden ([.][size256]) and runs as its own
+// ctest entry with the label `slow`, which the README's test command leaves out (it costs about 4x
+// the two smaller sizes together; `ctest -L slow` runs it).
 bool RegisterDoNoHarm()
 {
-    for (uint32_t size : {64u, 128u})
+    for (uint32_t size : {64u, 128u, 256u})
         for (const std::string& name : nrdlab::GetBuiltinSceneNames())
         {
-            // The triangle-mesh scenes are measured separately and fall short of this bar today
-            // (Shaders/Sigma/README.md, Shaders/TiledShadow/README.md: "Triangle-mesh scenes").
-            if (name.rfind("mesh_", 0) == 0)
-                continue;
             std::string title = "shadow denoisers do no harm on " + name + " at " + std::to_string(size) + "x" +
                                 std::to_string(size);
             Catch::AutoReg(new DoNoHarmInvoker(name, size), Catch::SourceLineInfo(__FILE__, __LINE__),
-                           Catch::StringRef(), Catch::NameAndTags(title, "[quality]"));
+                           Catch::StringRef(), Catch::NameAndTags(title, size > 128 ? "[.][size256]" : "[quality]"));
         }
     return true;
 }

@@ -78,6 +78,14 @@
 #define TS_UNIFORM_BEFORE 0.02
 #define TS_GLOBAL_CHANGE 0.2
 #define TS_CLAMPED_SAMPLES 3.0
+// Temporal determinism: the raw samples of the 4x4 history footprint against this frame's at the same
+// offsets from the nearest texel. Where they change at most TS_DETERMINISTIC times as often as
+// independent binary noise of their mean would (at least TS_DETERMINISTIC_EVIDENCE changes expected),
+// the samples are not noise: a sharp shadow (or fine shadow detail, or one that moves without
+// motion vectors) whose 1-spp sample is exact; a pixel whose sample is also unchanged is output as
+// it is, and its history takes it.
+#define TS_DETERMINISTIC 0.25
+#define TS_DETERMINISTIC_EVIDENCE 3.0
 // Window radius of the "near" statistics (variance boost, clamp box extension).
 #define TS_BOOST_RADIUS 1
 
@@ -385,6 +393,9 @@ void main()
         vec4 weighted = vec4(0.0);
         float support = 0.0, meanMin = 1.0, meanMax = 0.0;
         float resampling = 0.0; // Blur of the resampling: 0 at texel centres, 0.5 halfway on both axes.
+        uint previousBits = 0u;  // Raw samples of the 4x4 footprint (bit 4 k.y + k.x), valid texels only.
+        uint footprintBits = 0u; // Texels of the 4x4 footprint that hold this surface.
+        ivec2 nearestK = ivec2(1);
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
         {
@@ -392,6 +403,7 @@ void main()
             ivec2 origin = ivec2(floor(position));
             vec2 f = position - vec2(origin);
             resampling = f.x * (1.0 - f.x) + f.y * (1.0 - f.y);
+            nearestK = ivec2(greaterThanEqual(f, vec2(0.5))) + 1;
             // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from the block's first texel; block b
             // starts at origin - 1 + 2 (b & 1, b >> 1).
             const ivec2 offsets[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
@@ -414,6 +426,7 @@ void main()
                     bool isValid = all(lessThan(uvec2(texel), gResourceSize)) && !_NRD_IsSky(viewZPrev) &&
                                    abs(viewZPrev - viewZPrevExpected) < tolerance * (isInner ? 1.0 : TS_OUTER_TOLERANCE);
                     validBits |= isValid ? 1u << uint(4 * k.y + k.x) : 0u;
+                    previousBits |= isValid ? _TS_UnpackSample(viewZs[i]) << uint(4 * k.y + k.x) : 0u;
                     if (isInner)
                         innerLocalMean[(k.x - 1) + 2 * (k.y - 1)] = _TS_UnpackLocalMean(viewZs[i]);
                 }
@@ -451,6 +464,7 @@ void main()
                     }
                 }
             }
+            footprintBits = validBits;
             bool isCubicValid = validBits == 0xFFFFu;
             history = bilinear;
             if (meanMin < TS_HARD_EDGE && meanMax > 1.0 - TS_HARD_EDGE && support > 1e-4)
@@ -566,6 +580,35 @@ void main()
         }
         result = clamped + StepToward(sample0 - clamped, alpha);
 
+        // Temporal determinism (TS_DETERMINISTIC): this frame's bits against the previous frame's at
+        // the same offsets from the nearest history texel, where both are this surface.
+        float flips = 0.0, pairs = 0.0, lit = 0.0;
+        bool isCentreUnchanged = false;
+        for (int t = 0; t < 16 && footprintBits != 0u; t++)
+        {
+            ivec2 d = ivec2(t & 3, t >> 2) - nearestK;
+            uint nearBit = uint(d.x + 2 + 5 * (d.y + 2));
+            if ((footprintBits & (1u << uint(t))) == 0u || ((nearInImage >> nearBit) & 1u) == 0u)
+                continue;
+            uint current = (near >> nearBit) & 1u, previous = (previousBits >> uint(t)) & 1u;
+            flips += float(current ^ previous);
+            pairs += 1.0;
+            lit += float(current + previous);
+            if (d == ivec2(0))
+                isCentreUnchanged = current == previous;
+        }
+        float litFraction = lit / max(2.0 * pairs, 1.0);
+        float expectedFlips = pairs * 2.0 * litFraction * (1.0 - litFraction);
+        // Only where the history is in doubt (resampled under motion, or the neighbourhood changed):
+        // a still sharp shadow keeps accumulating, which antialiases its edges.
+        bool isDeterministic = !isDisoccluded && (isMoving || clampAmount > 0.0) && isCentreUnchanged &&
+                               expectedFlips >= TS_DETERMINISTIC_EVIDENCE && flips <= TS_DETERMINISTIC * expectedFlips;
+        if (isDeterministic)
+        {
+            result = sample0;
+            temporalMean = sample0;
+        }
+
         // Under sub-pixel motion a shadowed sample is output as it is, unfiltered, unless it looks
         // like penumbra noise: its 3x3 bits, or the changes across its 9x9 window (the history keeps
         // 'result'). Outside a penumbra the sample is exact, while a history resampled every frame
@@ -582,12 +625,12 @@ void main()
                 structure = ChangesRelativeToNoise(local, groupOrigin, isInterior);
             isSharpShadow = structure < TS_STRUCTURE;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
     imageStore(gOut_Shadow, pixel, vec4(result, variance, 0.0, 0.0));
-    imageStore(gOut_Moments, pixel, uvec4(_TS_PackMoments(temporalMean, samples, previousLocalMean), 0u, 0u, 0u));
+    imageStore(gOut_Moments, pixel, uvec4(_TS_PackMoments(temporalMean, samples, previousLocalMean, sample0), 0u, 0u, 0u));
 
     if (gDebugView != TS_DEBUG_NONE)
     {

@@ -38,28 +38,31 @@ vec2 _TS_FilterInput(vec2 shadowVariance)
 
 uvec2 _TS_TileCount(uvec2 size) { return (size + uvec2(TS_TILE_W - 1, TS_TILE_H - 1)) / uvec2(TS_TILE_W, TS_TILE_H); }
 
-// The permanent state texture (RG32_UINT): .x = viewZ (float bits, the low 8 mantissa bits
-// replaced by the running mean of the local mean, 8-bit unorm: viewZ keeps 15 mantissa bits),
+// The permanent state texture (RG32_UINT): .x = viewZ (float bits, the low 9 mantissa bits
+// replaced by the running mean of the local mean, 8-bit unorm, and the pixel's raw sample in bit 8:
+// viewZ keeps 14 mantissa bits),
 // .y = history (the classification's temporal result, 12-bit unorm) | temporal mean of the raw samples
 // (12-bit unorm) << 12 | accumulated samples * 4 (8 bits) << 24. The raw samples are 0 or 1, so
 // their temporal variance follows from the mean: mean * (1 - mean).
 // The classification hands the moments to the first a-trous pass in one R32_UINT: running local
-// mean (bits 0..7), temporal mean << 12, samples * 4 << 24.
+// mean (bits 0..7), raw sample (bit 8), temporal mean << 12, samples * 4 << 24.
 uint _TS_PackUnorm(float x, float scale) { return uint(clamp(_NRD_Sanitize(x, 0.0), 0.0, 1.0) * scale + 0.5); }
 
-uint _TS_PackMoments(float temporalMean, float samples, float localMean)
+uint _TS_PackMoments(float temporalMean, float samples, float localMean, float sample0)
 {
     uint n = uint(clamp(_NRD_Sanitize(samples, 0.0), 0.0, TS_MAX_HISTORY) * 4.0 + 0.5);
-    return _TS_PackUnorm(localMean, 255.0) | (_TS_PackUnorm(temporalMean, 4095.0) << 12) | (n << 24);
+    return _TS_PackUnorm(localMean, 255.0) | (sample0 != 0.0 ? 0x100u : 0u) | (_TS_PackUnorm(temporalMean, 4095.0) << 12) |
+           (n << 24);
 }
 
 uvec2 _TS_PackState(float viewZ, float history, uint moments)
 {
-    return uvec2((floatBitsToUint(viewZ) & ~0xFFu) | (moments & 0xFFu), (moments & ~0xFFFu) | _TS_PackUnorm(history, 4095.0));
+    return uvec2((floatBitsToUint(viewZ) & ~0x1FFu) | (moments & 0x1FFu), (moments & ~0xFFFu) | _TS_PackUnorm(history, 4095.0));
 }
 
-float _TS_UnpackViewZ(uint x) { return uintBitsToFloat(x & ~0xFFu); }
+float _TS_UnpackViewZ(uint x) { return uintBitsToFloat(x & ~0x1FFu); }
 float _TS_UnpackLocalMean(uint x) { return float(x & 0xFFu) * (1.0 / 255.0); }
+uint _TS_UnpackSample(uint x) { return (x >> 8) & 1u; }
 
 // .x history, .y temporal mean, .z accumulated samples.
 vec3 _TS_UnpackHistory(uint packed)
