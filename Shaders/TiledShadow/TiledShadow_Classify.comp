@@ -599,9 +599,11 @@ void main()
         }
         float litFraction = lit / max(2.0 * pairs, 1.0);
         float expectedFlips = pairs * 2.0 * litFraction * (1.0 - litFraction);
-        // Only where the history is in doubt (resampled under motion, or the neighbourhood changed):
-        // a still sharp shadow keeps accumulating, which antialiases its edges.
-        bool isDeterministic = !isDisoccluded && (isMoving || clampAmount > 0.0) && isCentreUnchanged &&
+        // Only where the history is in doubt: under motion, where the resampled history is on the other
+        // side of 0.5 (elsewhere its antialiased edges are better than the sample); in a still view,
+        // where the neighbourhood changed. A still sharp shadow keeps accumulating.
+        bool isDeterministic = !isDisoccluded && ((isMoving && abs(history.x - sample0) > 0.5) || (!isMoving && clampAmount > 0.0)) &&
+                               isCentreUnchanged &&
                                expectedFlips >= TS_DETERMINISTIC_EVIDENCE && flips <= TS_DETERMINISTIC * expectedFlips;
         if (isDeterministic)
         {
