@@ -20,6 +20,11 @@ vec4 Relax_SanitizeSignal(vec4 s)
     return clamp(s, vec4(0.0), vec4(vec3(NRD_FP16_MAX), 1.0));
 }
 
+// A sample whose radiance is not finite (NaN, Inf) is a missing sample: it is not accumulated, not
+// used for reconstruction and left out of the neighbourhood statistics, so that the history survives
+// a frame of broken input unchanged.
+bool Relax_IsSample(vec4 s) { return _NRD_IsFinite(vec4(s.rgb, 0.0)); }
+
 // Surface of a pixel as the stoppers need it: view-space position and normal, linear roughness.
 struct RelaxSurface
 {

@@ -81,7 +81,11 @@ void main()
     vec4 signal = vec4(0.0);
     bool hasSample = isTraced;
     if (isTraced)
-        signal = Relax_SanitizeSignal(texelFetch(gIn_Signal, pixel, 0));
+    {
+        vec4 raw = texelFetch(gIn_Signal, pixel, 0);
+        hasSample = Relax_IsSample(raw);
+        signal = hasSample ? Relax_SanitizeSignal(raw) : vec4(0.0);
+    }
     else
     {
         float weightSum = 0.0;
@@ -90,8 +94,9 @@ void main()
         {
             ivec2 q = pixel + kCross[i];
             RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
-            float w = n.z == 0.0 ? 0.0 : Relax_PlaneWeight(s, n.X, 0.05);
-            signal += w * (w > 0.0 ? Relax_SanitizeSignal(texelFetch(gIn_Signal, q, 0)) : vec4(0.0));
+            vec4 raw = n.z == 0.0 ? vec4(0.0) : texelFetch(gIn_Signal, q, 0);
+            float w = n.z == 0.0 || !Relax_IsSample(raw) ? 0.0 : Relax_PlaneWeight(s, n.X, 0.05);
+            signal += w * (w > 0.0 ? Relax_SanitizeSignal(raw) : vec4(0.0));
             weightSum += w;
         }
         hasSample = weightSum > 0.0;
@@ -151,7 +156,10 @@ void main()
                 RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
                 if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.N, n.N) < 0.8)
                     continue;
-                vec3 c = Relax_SanitizeSignal(texelFetch(gIn_Signal, q, 0)).rgb;
+                vec4 raw = texelFetch(gIn_Signal, q, 0);
+                if (!Relax_IsSample(raw))
+                    continue;
+                vec3 c = Relax_SanitizeSignal(raw).rgb;
                 m1 += c;
                 m2 += c * c;
                 count += 1.0;
@@ -196,7 +204,10 @@ void main()
                 float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
                 if (_NRD_IsSky(zq) || abs(zq - s.z) > 0.05 * s.z || !(zPrev > 0.0) || abs(zPrev - zExpected) > 0.05 * zExpected)
                     continue;
-                float l = _NRD_Luminance(Relax_SanitizeSignal(texelFetch(gIn_Signal, q, 0)).rgb);
+                vec4 raw = texelFetch(gIn_Signal, q, 0);
+                if (!Relax_IsSample(raw))
+                    continue;
+                float l = _NRD_Luminance(Relax_SanitizeSignal(raw).rgb);
                 sum += l;
                 sumSq += l * l;
                 sumPrev += _NRD_Luminance(_NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0).rgb, 0.0));
