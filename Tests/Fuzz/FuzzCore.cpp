@@ -436,8 +436,12 @@ void ValidateDispatches(const nrd::DenoiserDesc& d, const nrd::DispatchDesc* dis
         FUZZ_CHECK((x.constantBufferDataSize == 0) == (x.constantBufferData == nullptr));
         Touch(x.constantBufferData, x.constantBufferDataSize);
         FUZZ_CHECK(x.gridWidth > 0 && x.gridHeight > 0);
-        // Frames never exceed the creation size: at most one group per pixel of it.
-        FUZZ_CHECK(x.gridWidth <= d.renderWidth && x.gridHeight <= d.renderHeight);
+        // Frames never exceed the creation size: at most one group per pixel of it (per axis; an
+        // indirect dispatch over a list of tiles is a 1D grid of at most one group per pixel in all).
+        if (x.isIndirect)
+            FUZZ_CHECK(uint64_t(x.gridWidth) * x.gridHeight <= uint64_t(d.renderWidth) * d.renderHeight);
+        else
+            FUZZ_CHECK(x.gridWidth <= d.renderWidth && x.gridHeight <= d.renderHeight);
         if (x.isIndirect)
         {
             FUZZ_CHECK(x.indirectArgumentsBuffer < d.buffersNum);
