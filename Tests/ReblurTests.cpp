@@ -1,6 +1,6 @@
 // REBLUR: settings validation, dispatch sequence and memory of the descriptions (core only), and on
 // lavapipe: reference accumulation equal to a CPU evaluation of the temporal accumulation with fp16
-// history, sky left unwritten, noise reduction on a plane, finite output on bad input.
+// history (also with a confidence input below 1), sky left unwritten, noise reduction on a plane, finite output on bad input.
 #include <catch2/catch.hpp>
 
 #include "VulkanTestUtils.h"
@@ -174,13 +174,13 @@ struct ReblurRig
     static constexpr uint32_t kW = 16, kH = 16;
     lab::VulkanContext& context;
     Integration integration;
-    lab::LabTexture viewZ, normal, mv, input, output;
+    lab::LabTexture viewZ, normal, mv, input, output, confidence;
 
     explicit ReblurRig(lab::VulkanContext& c) : context(c) {}
     ~ReblurRig()
     {
         integration.Destroy();
-        for (lab::LabTexture* t : {&viewZ, &normal, &mv, &input, &output})
+        for (lab::LabTexture* t : {&viewZ, &normal, &mv, &input, &output, &confidence})
             context.DestroyTexture(*t);
     }
 
@@ -199,6 +199,9 @@ struct ReblurRig
         REQUIRE(context.CreateTexture(rhi::Format::R32_SFLOAT, kW, kH, "IN_VIEWZ", viewZ) == VK_SUCCESS);
         REQUIRE(context.CreateTexture(rhi::Format::RGBA8_UNORM, kW, kH, "IN_NORMAL_ROUGHNESS", normal) == VK_SUCCESS);
         REQUIRE(context.CreateTexture(rhi::Format::RG16_SFLOAT, kW, kH, "IN_MV", mv) == VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::R32_SFLOAT, kW, kH, "IN_DIFF_CONFIDENCE", confidence) == VK_SUCCESS);
+        std::vector<float> one(size_t(kW) * kH, 1.0f);
+        REQUIRE(context.UploadTexture(confidence, one.data()) == VK_SUCCESS);
         REQUIRE(context.CreateTexture(rhi::Format::RGBA32_SFLOAT, kW, kH, "IN_DIFF_RADIANCE_HITDIST", input) == VK_SUCCESS);
         REQUIRE(context.CreateTexture(rhi::Format::RGBA32_SFLOAT, kW, kH, "OUT_DIFF_RADIANCE_HITDIST", output) ==
                 VK_SUCCESS);
@@ -227,6 +230,7 @@ struct ReblurRig
                              {ResourceType::IN_NORMAL_ROUGHNESS, &normal},
                              {ResourceType::IN_MV, &mv},
                              {ResourceType::IN_DIFF_RADIANCE_HITDIST, &input},
+                             {ResourceType::IN_DIFF_CONFIDENCE, &confidence},
                              {ResourceType::OUT_DIFF_RADIANCE_HITDIST, &output}};
         REQUIRE(test::DenoiseAndWait(context, integration, bindings) == VK_SUCCESS);
         std::vector<float> result;
@@ -267,6 +271,50 @@ TEST_CASE("REBLUR reference accumulation equals a CPU running mean with fp16 his
         std::vector<float> expectedSurface(expected.begin() + ReblurRig::kW * 4, expected.end());
         CHECK(test::CountMismatches(surface, expectedSurface, 2e-3f, 2e-3f) == 0);
         CHECK(test::CountMismatches(sky, std::vector<float>(sky.size(), kSentinel), 0.0f, 0.0f) == 0);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("REBLUR multiplies its history length by the confidence without rounding it down", "[vulkan][reblur]")
+{
+    // Reference accumulation with confidence 0.9 everywhere: the history length L read back is
+    // multiplied by 0.9 and the new sample weighs 1 / (0.9 L + 1), so L grows towards
+    // 1 / (1 - 0.9) = 10 frames (fp16 storage). Rounded down, 0.9 L + 1 would stay at 1 frame;
+    // rounded to the nearest frame, at 6.4.
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    {
+        ReblurRig rig(*context);
+        ReblurSettings settings;
+        settings.forceReferenceAccumulation = true;
+        settings.isConfidenceInput = true;
+        rig.Create(settings);
+        const uint32_t n = ReblurRig::kW * ReblurRig::kH;
+        std::vector<float> c(n, 0.9f);
+        REQUIRE(rig.context.UploadTexture(rig.confidence, c.data()) == VK_SUCCESS);
+        std::vector<float> expected(n * 4, 0.0f);
+        std::vector<float> actual;
+        float storedLength = 0.0f;
+        for (uint32_t frame = 0; frame < 12; frame++)
+        {
+            std::vector<float> in = test::RandomFloats(n * 4, 2100 + frame, 0.0f, 4.0f);
+            for (uint32_t i = 0; i < n; i++)
+                in[i * 4 + 3] *= 0.25f;
+            actual = rig.Frame(frame, in);
+            float length = storedLength * 0.9f + 1.0f;
+            storedLength = test::Quantize(rhi::Format::R16_SFLOAT, {length})[0];
+            float a = 1.0f / length;
+            for (size_t i = 0; i < expected.size(); i++)
+                expected[i] = expected[i] * (1.0f - a) + in[i] * a;
+            expected = test::Quantize(rhi::Format::RGBA16_SFLOAT, expected);
+        }
+        INFO("history length after 12 frames " << storedLength);
+        CHECK(storedLength > 7.0f);
+        // Tolerance: fp16 stores that round towards zero (lavapipe) add up to a few ulps over an
+        // exponential mean of this length; a history of 6.4 frames instead is off by 0.1 and more.
+        std::vector<float> surface(actual.begin() + ReblurRig::kW * 4, actual.end());
+        std::vector<float> expectedSurface(expected.begin() + ReblurRig::kW * 4, expected.end());
+        CHECK(test::CountMismatches(surface, expectedSurface, 1e-2f, 1e-2f) == 0);
     }
     CHECK(context->ValidationMessageCount() == 0);
 }

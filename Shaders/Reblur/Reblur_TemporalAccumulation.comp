@@ -73,15 +73,20 @@ void main()
 #endif
     slow = _Reblur_Sanitize(slow);
     float fast = max(_NRD_Sanitize(fastLength.x, 0.0), 0.0);
-    float historyLength = clamp(floor(_NRD_Sanitize(fastLength.y, 0.0) + 0.5), 0.0, gMaxAccumulatedFrameNum);
+    // With a confidence input the history length is not rounded to whole frames: a confidence of
+    // 0.9 every frame then keeps 1 / (1 - 0.9) = 10 frames, where rounding (down or to the nearest)
+    // kept a short history at its length for any confidence below 1 (0.9: 6 frames; rounded down, 1).
+    bool hasConfidence = (gFlags & REBLUR_FLAG_CONFIDENCE) != 0u;
+    float historyLength = clamp(_NRD_Sanitize(fastLength.y, 0.0), 0.0, gMaxAccumulatedFrameNum);
     stabilized = max(_NRD_Sanitize(stabilized, 0.0), 0.0);
     // A partly disoccluded footprint counts as a shorter history.
-    historyLength = footprint > 0.01 ? floor(historyLength * min(footprint * 1.25, 1.0) + 0.5) : 0.0;
+    historyLength *= min(footprint * 1.25, 1.0);
+    historyLength = footprint > 0.01 ? (hasConfidence ? historyLength : floor(historyLength + 0.5)) : 0.0;
 
-    if ((gFlags & REBLUR_FLAG_CONFIDENCE) != 0u)
+    if (hasConfidence)
     {
         float confidence = clamp(_NRD_Sanitize(texelFetch(sampler2D(gIn_Confidence, gNearestClamp), pixel, 0).x, 1.0), 0.0, 1.0);
-        historyLength = floor(historyLength * confidence);
+        historyLength *= confidence;
     }
 
     bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
