@@ -14,6 +14,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <thread>
 
 using namespace nrd;
 
@@ -340,4 +341,49 @@ TEST_CASE("Error runs of every family in one process share one context and leave
     std::string error;
     REQUIRE(nrdlab::RunMethod(SmallErrorRun("TILED_SHADOW"), own, error));
     CHECK(own.mean.relmseDenoised == firstRound[1]);
+}
+
+TEST_CASE("Error runs in parallel threads, each on its own context, measure what they measure one by one", "[bench]")
+{
+    // nrd-bench --error-jobs N: the scene lab, the runner and the metrics share nothing between
+    // runs but caches that lock or write whole files, so the order and the overlap change nothing.
+    const std::vector<std::string> methods = {"SIGMA_SHADOW", "REBLUR_DIFFUSE_SPECULAR", "REFLECTION", "TILED_SHADOW"};
+    std::vector<double> sequential, parallel(methods.size(), -1.0);
+    for (const std::string& method : methods)
+    {
+        nrdlab::RunReport report;
+        std::string error;
+        INFO(method);
+        REQUIRE(nrdlab::RunMethod(SmallErrorRun(method), report, error));
+        sequential.push_back(report.mean.relmseDenoised);
+    }
+    std::vector<std::string> errors(methods.size());
+    std::vector<std::thread> threads;
+    for (size_t t = 0; t < 2; t++)
+        threads.emplace_back([&, t] {
+            lab::VulkanContextDesc desc;
+            desc.quiet = true;
+            lab::VulkanContext context;
+            if (context.Create(desc) != VK_SUCCESS)
+            {
+                errors[t] = "no context";
+                return;
+            }
+            for (size_t m = t; m < methods.size(); m += 2) // Thread 0 the even methods, thread 1 the odd ones.
+            {
+                nrdlab::RunOptions o = SmallErrorRun(methods[m]);
+                o.context = &context;
+                nrdlab::RunReport report;
+                if (nrdlab::RunMethod(o, report, errors[m]))
+                    parallel[m] = report.mean.relmseDenoised;
+            }
+        });
+    for (std::thread& t : threads)
+        t.join();
+    for (size_t m = 0; m < methods.size(); m++)
+    {
+        INFO(methods[m] << ": " << errors[m]);
+        CHECK(std::isfinite(sequential[m]));
+        CHECK(parallel[m] == sequential[m]);
+    }
 }

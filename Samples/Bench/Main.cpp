@@ -2,9 +2,9 @@
 // its presets (Presets.json): GPU time per frame and per dispatch on fixed inputs, memory, the
 // bandwidth bound, and the error against the scene lab's truth at an affordable size.
 //
-// nrd-bench [--methods A,B] [--sizes WxH,...] [--error-size WxH|none] [--scene NAME|FILE.json]
-//           [--frames N] [--truth-spp K] [--timed-frames N] [--warmup-frames N] [--warmup-ms MS]
-//           [--frames-per-submission N] [--isolated-idle-ms MS] [--copy-mib N] [--budget-ms X]
+// nrd-bench [--methods A,B] [--sizes WxH,...] [--error-size WxH|none] [--error-jobs N]
+//           [--scene NAME|FILE.json] [--frames N] [--truth-spp K] [--timed-frames N] [--warmup-frames N]
+//           [--warmup-ms MS] [--frames-per-submission N] [--isolated-idle-ms MS] [--copy-mib N] [--budget-ms X]
 //           [--presets FILE.json] [--out DIR] [--device I] [--cache DIR|none] [--deadline-s S] [--quiet]
 // nrd-bench --validate REPORT.json
 // nrd-bench --list-methods
@@ -14,14 +14,17 @@
 #include "VulkanContext.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace
 {
@@ -29,9 +32,10 @@ namespace
 void PrintUsage()
 {
     std::fprintf(stderr,
-                 "usage: nrd-bench [--methods A,B] [--sizes WxH,...] [--error-size WxH|none] [--scene NAME|FILE.json]\n"
-                 "                 [--frames N] [--truth-spp K] [--timed-frames N] [--warmup-frames N] [--warmup-ms MS]\n"
-                 "                 [--frames-per-submission N] [--isolated-idle-ms MS] [--copy-mib N] [--budget-ms X]\n"
+                 "usage: nrd-bench [--methods A,B] [--sizes WxH,...] [--error-size WxH|none] [--error-jobs N]\n"
+                 "                 [--scene NAME|FILE.json] [--frames N] [--truth-spp K] [--timed-frames N]\n"
+                 "                 [--warmup-frames N] [--warmup-ms MS] [--frames-per-submission N]\n"
+                 "                 [--isolated-idle-ms MS] [--copy-mib N] [--budget-ms X]\n"
                  "                 [--presets FILE.json] [--out DIR] [--device I] [--cache DIR|none] [--deadline-s S]\n"
                  "                 [--quiet]\n"
                  "       nrd-bench --validate REPORT.json\n"
@@ -136,7 +140,7 @@ int main(int argc, char** argv)
     bool measureError = true;
     std::string scene = "moving_occluder", outDir = "bench-out", presets = nrdbench::GetBuiltInPresets(), cache;
     uint32_t frames = 0, truthSpp = 256, timedFrames = 64, warmupFrames = 16, warmupMs = 0, perSubmission = 16;
-    uint32_t isolatedIdleMs = 0, copyMib = 64, deadlineS = 0;
+    uint32_t isolatedIdleMs = 0, copyMib = 64, deadlineS = 0, errorJobs = 1;
     int32_t device = -1;
     double budgetMs = -1.0;
     bool quiet = false;
@@ -224,6 +228,8 @@ int main(int argc, char** argv)
             ok = ParseUint(v, perSubmission) && perSubmission > 0 && perSubmission <= 64;
         else if (a == "--isolated-idle-ms")
             ok = ParseUint(v, isolatedIdleMs);
+        else if (a == "--error-jobs")
+            ok = ParseUint(v, errorJobs) && errorJobs > 0 && errorJobs <= 64;
         else if (a == "--deadline-s")
             ok = ParseUint(v, deadlineS);
         else if (a == "--copy-mib")
@@ -328,6 +334,103 @@ int main(int argc, char** argv)
             return 1;
         }
     }
+    // Error runs first, 'errorJobs' at a time: each worker thread has its own context (a device
+    // and a queue; the scene lab and the runner keep no state between runs but the mesh cache, which
+    // locks, and the frame cache, whose files are written whole and renamed), so on a GPU the lab's
+    // renders, the readbacks and the CPU metrics of several runs overlap. The timing runs follow,
+    // one at a time on the main context, with nothing else on the device.
+    if (measureError)
+    {
+        std::atomic<size_t> next{0};
+        std::atomic<bool> failed{false};
+        std::mutex mutex; // Progress lines and 'firstError'.
+        std::string firstError;
+        size_t done = 0;
+        auto worker = [&](nrd::lab::VulkanContext* shared) {
+            nrd::lab::VulkanContext own;
+            nrd::lab::VulkanContext* ctx = shared;
+            if (!ctx)
+            {
+                nrd::lab::VulkanContextDesc desc;
+                desc.deviceIndex = device;
+                desc.quiet = true;
+                desc.applicationName = "nrd-bench";
+                if (own.Create(desc) != VK_SUCCESS)
+                {
+                    std::lock_guard<std::mutex> lock(mutex);
+                    failed = true;
+                    firstError = "could not create a Vulkan device for an error worker";
+                    return;
+                }
+                ctx = &own;
+            }
+            for (size_t k; !failed && (k = next++) < report.results.size() && !pastDeadline();)
+            {
+                nrdbench::SettingResult& r = report.results[k];
+                nrdlab::RunOptions o;
+                o.scene = scene;
+                o.method = r.method;
+                o.frames = frames;
+                o.truthSpp = truthSpp;
+                o.device = device;
+                o.context = ctx;
+                o.keepImages = false;
+                o.settingsJson = r.settingsJson;
+                o.width = errorWidth;
+                o.height = errorHeight;
+                o.cacheDirectory = cache;
+                const std::string what = "error " + std::to_string(errorWidth) + "x" + std::to_string(errorHeight);
+                if (errorJobs == 1)
+                    o.progress = [&](uint32_t f, uint32_t n) {
+                        progress(k, r, what + ", frame " + std::to_string(f + 1) + "/" + std::to_string(n));
+                    };
+                nrdlab::RunReport run;
+                std::string error;
+                if (!nrdlab::RunMethod(o, run, error))
+                {
+                    std::lock_guard<std::mutex> lock(mutex);
+                    if (!failed.exchange(true))
+                        firstError = r.method + " / " + r.setting + ": " + error;
+                    return;
+                }
+                nrdbench::QualityResult& q = r.quality;
+                q.measured = true;
+                q.width = run.width;
+                q.height = run.height;
+                q.frames = run.frames;
+                q.warmup = run.warmup;
+                q.truthSpp = run.truthSpp;
+                q.relmse = run.mean.relmseDenoised;
+                q.relmseNoisy = run.mean.relmseNoisy;
+                q.flip = run.mean.flipDenoised;
+                q.temporalInstability = run.mean.temporalInstabilityDenoised;
+                q.temporalInstabilityTruth = run.mean.temporalInstabilityTruth;
+                q.lagFrames = run.lagFrames;
+                r.signal = run.signal;
+                std::lock_guard<std::mutex> lock(mutex);
+                report.device = run.device;
+                report.driver = run.driver;
+                if (errorJobs > 1 && !quiet)
+                {
+                    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                    std::fprintf(stderr, "[%zu/%zu %6.1f s] %s / %s: %s measured\n", ++done, report.results.size(), s,
+                                 r.method.c_str(), r.setting.c_str(), what.c_str());
+                }
+            }
+        };
+        std::vector<std::thread> workers;
+        for (uint32_t j = 1; j < errorJobs; j++)
+            workers.emplace_back(worker, nullptr);
+        worker(&context);
+        for (std::thread& t : workers)
+            t.join();
+        if (failed)
+        {
+            std::fprintf(stderr, "\nerror: %s\n", firstError.c_str());
+            return 1;
+        }
+    }
+
     for (size_t k = 0; k < report.results.size() && !pastDeadline(); k++)
     {
         nrdbench::SettingResult& r = report.results[k];
@@ -340,41 +443,6 @@ int main(int argc, char** argv)
         base.context = &context;
         base.keepImages = false;
         std::string error;
-
-        if (measureError)
-        {
-            nrdlab::RunOptions o = base;
-            o.settingsJson = r.settingsJson;
-            o.width = errorWidth;
-            o.height = errorHeight;
-            o.cacheDirectory = cache;
-            o.progress = [&](uint32_t f, uint32_t n) {
-                progress(k, r, "error " + std::to_string(errorWidth) + "x" + std::to_string(errorHeight) + ", frame " +
-                                   std::to_string(f + 1) + "/" + std::to_string(n));
-            };
-            nrdlab::RunReport run;
-            if (!nrdlab::RunMethod(o, run, error))
-            {
-                std::fprintf(stderr, "\nerror: %s / %s: %s\n", r.method.c_str(), r.setting.c_str(), error.c_str());
-                return 1;
-            }
-            nrdbench::QualityResult& q = r.quality;
-            q.measured = true;
-            q.width = run.width;
-            q.height = run.height;
-            q.frames = run.frames;
-            q.warmup = run.warmup;
-            q.truthSpp = run.truthSpp;
-            q.relmse = run.mean.relmseDenoised;
-            q.relmseNoisy = run.mean.relmseNoisy;
-            q.flip = run.mean.flipDenoised;
-            q.temporalInstability = run.mean.temporalInstabilityDenoised;
-            q.temporalInstabilityTruth = run.mean.temporalInstabilityTruth;
-            q.lagFrames = run.lagFrames;
-            r.signal = run.signal;
-            report.device = run.device;
-            report.driver = run.driver;
-        }
 
         // The last setting of a method times them all.
         if (k + 1 < report.results.size() && report.results[k + 1].method == r.method)

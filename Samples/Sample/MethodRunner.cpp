@@ -818,7 +818,10 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
                     if (v > 0)
                     {
                         t.isolatedIdleMs = 0; // nrd-sample's pattern for the first variant only.
-                        t.warmupMs = 0;       // The clocks settled during the first variant.
+                        // The clocks settled during the first variant, unless its isolated frames
+                        // idled the GPU since: the second variant then warms up as long again
+                        // (without it, on the H100 it ran at idle clocks, 2-3x slower).
+                        t.warmupMs = v == 1 && o.timing.isolatedIdleMs ? o.timing.warmupMs : 0;
                         t.copyBytes = 0;      // One bandwidth probe per run.
                     }
                     if (!TimeFixedInputs(t, vk, integration, common, pool, o.width, o.height, userBytesPerPixel,

@@ -29,7 +29,8 @@ struct TimingOptions
 {
     uint32_t frames = 0;               // Timed frames; 0: no timing.
     uint32_t warmupFrames = 32;        // Untimed frames first (clocks settle, caches and history fill),
-    uint32_t warmupMs = 0;             // for at least this long (first settings variant only).
+    uint32_t warmupMs = 0;             // for at least this long (first settings variant only, and the
+                                       // second after the first's isolated frames idled the GPU).
     uint32_t framesPerSubmission = 16; // 1: one frame per submission, waited for (nrd-sample's way).
     uint32_t idleMs = 0;               // Host pause after each submission (nrd-sample spends it in the
                                        // scene lab and the metrics).
