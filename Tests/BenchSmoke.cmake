@@ -1,13 +1,14 @@
 # cmake -DBENCH=<nrd-bench> -DWORK_DIR=<dir> -DPRESETS=<file.json> -P BenchSmoke.cmake
 # A short lavapipe run of nrd-bench over every method of the library's list (each at its default
-# settings, two for TILED_SHADOW: PRESETS), at a tiny size, with nrd-sample's one-frame-per-submission
-# pattern, then checks its outputs: the JSON report against the schema and the bandwidth bound
-# (nrd-bench --validate), the Markdown table, and one PNG plot per method.
+# settings, two for TILED_SHADOW: PRESETS), at a tiny size, two error runs at a time, with
+# nrd-sample's one-frame-per-submission pattern, then checks its outputs: the JSON report against
+# the schema and the bandwidth bound (nrd-bench --validate), the Markdown table, and one PNG plot
+# per method.
 file(REMOVE_RECURSE ${WORK_DIR})
 execute_process(
-    COMMAND ${BENCH} --sizes 16x16 --error-size 16x16 --scene static --frames 3 --truth-spp 4 --timed-frames 2
-            --warmup-frames 1 --frames-per-submission 2 --isolated-idle-ms 1 --copy-mib 1 --budget-ms 1000
-            --presets ${PRESETS} --cache ${WORK_DIR}/cache --out ${WORK_DIR} --quiet
+    COMMAND ${BENCH} --sizes 16x16 --error-size 16x16 --error-jobs 2 --scene static --frames 3 --truth-spp 4
+            --timed-frames 2 --warmup-frames 1 --frames-per-submission 2 --isolated-idle-ms 1 --copy-mib 1
+            --budget-ms 1000 --presets ${PRESETS} --cache ${WORK_DIR}/cache --out ${WORK_DIR} --quiet
     RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE errors)
 if(NOT result EQUAL 0)
     message(FATAL_ERROR "nrd-bench failed (${result}):\n${output}\n${errors}")
