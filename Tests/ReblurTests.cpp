@@ -1,6 +1,7 @@
 // REBLUR: settings validation, dispatch sequence and memory of the descriptions (core only), and on
 // lavapipe: reference accumulation equal to a CPU evaluation of the temporal accumulation with fp16
-// history (also with a confidence input below 1), sky left unwritten, noise reduction on a plane, finite output on bad input.
+// history (also with a confidence input below 1), sky left unwritten, noise reduction on a plane,
+// finite output on bad input.
 #include <catch2/catch.hpp>
 
 #include "VulkanTestUtils.h"

@@ -6,7 +6,8 @@
 //            [--signal shadow|diffuse|specular|diffuse_occlusion|specular_occlusion] [--validation]
 //            [--cache DIR|none] [--bounds] [--confidence] [--quiet]
 // --confidence: CONFIDENCE runs first on the lab's temporal gradients and feeds the method's
-// IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE (REBLUR_*; settings under "confidence").
+// IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE (REBLUR_* but the occlusion variants, RELAX_*; settings
+// under "confidence").
 #include "ImageIO.h"
 #include "MethodRunner.h"
 

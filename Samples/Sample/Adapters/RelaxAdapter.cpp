@@ -57,9 +57,15 @@ public:
         ReadSetting(j, "depthThreshold", s.depthThreshold);
         ReadSetting(j, "enableAntiFirefly", s.enableAntiFirefly);
         ReadSetting(j, "enableRoughnessEdgeStopping", s.enableRoughnessEdgeStopping);
+        ReadSetting(j, "useConfidenceInputs", s.useConfidenceInputs);
         uint32_t checkerboard = uint32_t(s.checkerboardMode);
         ReadSetting(j, "checkerboardMode", checkerboard);
         s.checkerboardMode = nrd::CheckerboardMode(checkerboard);
+        return true;
+    }
+    bool EnableConfidenceInputs() override
+    {
+        m_Settings.useConfidenceInputs = true;
         return true;
     }
     nrd::Result ApplySettings(nrd::Integration& integration, nrd::Identifier id) override
