@@ -9,8 +9,8 @@
 //
 // Resources: permanent history RGBA16F (radiance + sample count), temporal variance R16F, two
 // (ping-pong) viewZ R32F and normal + roughness RGBA16F; transient reprojected, spatial and
-// temporal RGBA16F and the 8x8 tile average (RGBA16F) and metadata (R32_UINT) at 1/8 x 1/8; pool
-// buffers: ray list (4 bytes per pixel), tile list (4 bytes per tile), counters + indirect args.
+// temporal RGBA16F and the 8x8 tile average (RGBA16F) at 1/8 x 1/8; pool buffers: ray list (4 bytes
+// per pixel), tile list (4 bytes per tile), counters + indirect args.
 #include "InstanceImpl.h"
 
 #include "../Shaders/Reflection/Reflection_Constants.h"
@@ -54,7 +54,6 @@ public:
         ResourceRef spatial = builder.AddTransientTexture(Format::RGBA16_SFLOAT);
         ResourceRef temporal = builder.AddTransientTexture(Format::RGBA16_SFLOAT);
         ResourceRef tileAverage = builder.AddTransientTexture(Format::RGBA16_SFLOAT, REFLECTION_TILE_SIZE, REFLECTION_TILE_SIZE);
-        ResourceRef tileMeta = builder.AddTransientTexture(Format::R32_UINT, REFLECTION_TILE_SIZE, REFLECTION_TILE_SIZE);
 
         BufferDesc rayList;
         rayList.size = uint64_t(w) * h * sizeof(uint32_t);
@@ -79,7 +78,7 @@ public:
         for (uint32_t parity = 0; parity < 2; parity++)
         {
             m_Classify[parity] = builder.AddDispatch<passes::Reflection_Classify>(
-                "REFLECTION - Classify", {normal, viewZ, variance, viewZHistory[parity], normalHistory[parity], tileMeta,
+                "REFLECTION - Classify", {normal, viewZ, variance, viewZHistory[parity], normalHistory[parity],
                                           m_RayList, tiles, m_Counters});
             m_Reproject[parity] = builder.AddDispatch<passes::Reflection_Reproject>(
                 "REFLECTION - Reproject", {in, normal, viewZ, mv, viewZHistory[1 - parity], normalHistory[1 - parity],

@@ -18,6 +18,9 @@ void main()
         return;
     vec3 Xc = _NRD_WorldPosition(_NRD_PixelUv(pixel), c.viewZ);
     const float kGauss[3] = float[3](6.0 / 16.0, 4.0 / 16.0, 1.0 / 16.0);
+    // Within the reflection's footprint (from the spatially filtered hit distance).
+    float footprint = _RF_FootprintSigma(_RF_LoadRadiance(gIn_Temporal, pixel).w, c.viewZ, c.roughness, gHitDistParams);
+    float inv2Sigma2 = 0.5 / (footprint * footprint);
     vec4 sum = vec4(0.0);
     float weightSum = 0.0;
     for (int y = -2; y <= 2; y++)
@@ -29,7 +32,8 @@ void main()
             if (x != 0 || y != 0)
             {
                 RfSurface s = _RF_LoadSurface(gIn_ViewZ, gIn_NormalRoughness, p);
-                w *= _RF_EdgeWeight(c, Xc, s, _NRD_WorldPosition(_NRD_PixelUv(p), s.viewZ), gNormalSigma);
+                vec3 Xs = _NRD_WorldPosition(_NRD_PixelUv(p), s.viewZ);
+                w *= _RF_EdgeWeight(c, Xc, s, Xs, gNormalSigma) * exp(-dot(Xs - Xc, Xs - Xc) * inv2Sigma2);
             }
             if (w <= 0.0)
                 continue;

@@ -97,15 +97,10 @@ void main()
     if (traces)
         gRayList[sRayBase + inclusive - 1u] = _RF_PackRay(pixel, copyH, copyV, copyD);
 
-    if (index == 0u)
+    if (index == 0u && sTileNeeded != 0u)
     {
-        uint meta = sTileNeeded != 0u ? 1u : 0u;
-        imageStore(gOut_TileMeta, ivec2(tile), uvec4(meta, 0u, 0u, 0u));
-        if (meta != 0u)
-        {
-            uint slot = atomicAdd(gCounters[RF_WORD_LIVE_TILES], 1u);
-            gTileList[slot] = tile.x | (tile.y << 16u);
-        }
+        uint slot = atomicAdd(gCounters[RF_WORD_LIVE_TILES], 1u);
+        gTileList[slot] = tile.x | (tile.y << 16u);
     }
 
     // History of the surface for the next frame's disocclusion test. Pixels the denoiser does not

@@ -101,6 +101,18 @@ float _RF_EdgeWeight(RfSurface c, vec3 Xc, RfSurface s, vec3 Xs, float normalPow
     return wN * wZ * wR;
 }
 
+// Standard deviation in world units of the spatial kernels around the surface point: twice the
+// footprint of the reflection lobe at the hit distance (the tangent of the half-angle that holds most
+// of the GGX energy is about 0.75 a, a = roughness^2), at least half a pixel. A close hit reflects
+// sharply; at grazing angles the pixels stretch along the surface, so the kernel narrows on screen
+// in that direction by itself.
+float _RF_FootprintSigma(float normHitDist, float viewZ, float roughness, vec4 hitDistParams)
+{
+    float hitDist = _NRD_GetHitDist(normHitDist, viewZ, hitDistParams, roughness);
+    float pixelSize = abs(viewZ) / gProjectY;
+    return max(hitDist * 1.5 * roughness * roughness, 0.5 * pixelSize);
+}
+
 vec4 _RF_LoadRadiance(texture2D t, ivec2 p)
 {
     vec4 v = _NRD_Sanitize(texelFetch(sampler2D(t, gNearestClamp), p, 0), 0.0);

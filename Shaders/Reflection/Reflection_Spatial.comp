@@ -25,7 +25,7 @@ float RadicalInverse(uint i, uint base)
 ivec2 HaltonOffset(uint i) { return ivec2(floor(vec2(RadicalInverse(i, 2u), RadicalInverse(i, 3u)) * 7.0)) - 3; }
 
 // Weight of a sample by how close its luminance is to the tile's average: 1 within one standard
-// deviation, then a Gaussian fall-off (keeps single bright samples from spreading).
+// deviation, then a Gaussian fall-off.
 float SimilarityWeight(float lum, vec4 average)
 {
     float mean = _NRD_Luminance(average.xyz);
@@ -50,26 +50,60 @@ void main()
     vec4 average = _NRD_Sanitize(texelFetch(sampler2D(gIn_TileAverage, gNearestClamp), ivec2(tile), 0), 0.0);
     vec3 Xc = _NRD_WorldPosition(_NRD_PixelUv(pixel), c.viewZ);
 
+    // The 16 samples (mirrored by quad position, so the four pixels of a quad, which share rays,
+    // sample apart) with their edge and similarity weights and world distances, and the closest hit
+    // among the centre and the samples on its surface (edge weight above 1/2).
+    ivec2 mirror = ivec2((pixel.x & 1) != 0 ? -1 : 1, (pixel.y & 1) != 0 ? -1 : 1);
+    vec4 samples[16];
+    float edgeWeights[16], similarityWeights[16], distances2[16]; // distances2: squared world distance
+    float closestHit = center.w;
+    for (uint i = 0u; i < 16u; i++)
+    {
+        ivec2 offset = HaltonOffset(i + 1u) * mirror;
+        ivec2 p = pixel + offset;
+        RfSurface s = _RF_LoadSurface(gIn_ViewZ, gIn_NormalRoughness, p);
+        float we = 0.0;
+        samples[i] = vec4(0.0);
+        distances2[i] = 0.0;
+        if (offset != ivec2(0) && s.needsDenoiser)
+        {
+            samples[i] = _RF_LoadRadiance(gIn_Radiance, p);
+            vec3 Xs = _NRD_WorldPosition(_NRD_PixelUv(p), s.viewZ);
+            we = _RF_EdgeWeight(c, Xc, s, Xs, gNormalSigma);
+            distances2[i] = dot(Xs - Xc, Xs - Xc);
+        }
+        edgeWeights[i] = we;
+        similarityWeights[i] = SimilarityWeight(_NRD_Luminance(samples[i].xyz), average);
+        if (we > 0.5)
+            closestHit = min(closestHit, samples[i].w);
+    }
+
+    // Gaussian of the world distance within the reflection's footprint. The closest hit sets it: an
+    // average would be dominated by the far hits (misses) around a contact, which then blurs the sharp
+    // reflection of the close object over it.
+    float footprint = _RF_FootprintSigma(closestHit, c.viewZ, c.roughness, gHitDistParams);
+    float inv2Sigma2 = 0.5 / (footprint * footprint);
+
+    // Similarity-weighted sum, and the edge-weighted sum whose luminance the result keeps: the
+    // similarity weights reject the samples unlike the tile, which are mostly the rare bright ones;
+    // rescaling to the unrejected luminance keeps their energy (no darkening).
     float w0 = SimilarityWeight(_NRD_Luminance(center.xyz), average);
     vec4 sum = center * w0;
     float weightSum = w0;
-    // Mirrored by quad position, so the four pixels of a quad (which share rays) sample apart.
-    ivec2 mirror = ivec2((pixel.x & 1) != 0 ? -1 : 1, (pixel.y & 1) != 0 ? -1 : 1);
-    for (uint i = 1u; i <= 16u; i++)
+    vec3 energySum = center.xyz;
+    float energyWeightSum = 1.0;
+    for (uint i = 0u; i < 16u; i++)
     {
-        ivec2 offset = HaltonOffset(i) * mirror;
-        if (offset == ivec2(0))
-            continue;
-        ivec2 p = pixel + offset;
-        RfSurface s = _RF_LoadSurface(gIn_ViewZ, gIn_NormalRoughness, p);
-        if (!s.needsDenoiser)
-            continue;
-        vec3 Xs = _NRD_WorldPosition(_NRD_PixelUv(p), s.viewZ);
-        vec4 v = _RF_LoadRadiance(gIn_Radiance, p);
-        float w = _RF_EdgeWeight(c, Xc, s, Xs, gNormalSigma) * SimilarityWeight(_NRD_Luminance(v.xyz), average);
-        sum += v * w;
+        float we = edgeWeights[i] * exp(-distances2[i] * inv2Sigma2);
+        float w = we * similarityWeights[i];
+        sum += samples[i] * w;
         weightSum += w;
+        energySum += samples[i].xyz * we;
+        energyWeightSum += we;
     }
     vec4 result = weightSum > 1e-6 ? sum / weightSum : center;
+    vec3 energy = energySum / energyWeightSum;
+    float lumResult = _NRD_Luminance(result.xyz), lumEnergy = _NRD_Luminance(energy);
+    result.xyz = lumResult > 1e-6 ? result.xyz * (lumEnergy / lumResult) : energy;
     imageStore(gOut_Spatial, pixel, _NRD_ClampToHalf(result));
 }

@@ -49,9 +49,15 @@ void main()
     vec4 reprojected = _NRD_Sanitize(texelFetch(sampler2D(gIn_Reprojected, gNearestClamp), pixel, 0), 0.0);
     float samples = clamp(reprojected.w, 0.0, gMaxHistoryFrameNum);
     vec3 history = max(reprojected.xyz, vec3(0.0));
-    // History clip: neighbourhood box with leeway.
+    // History clip: neighbourhood box with leeway. Clamping to the box itself darkens: the noise of a
+    // reflection is skewed (rare bright samples), so the neighbourhood's mean and sigma are most often
+    // below the converged history. A history outside the box is shortened instead, by how far it lies
+    // outside (in box half-sizes, on luminance), and clamped only to a box three times as wide.
     vec3 halfSize = gHistoryClipSigma * sigma + gHistoryClipLeeway * mean;
-    history = clamp(history, mean - halfSize, mean + halfSize);
+    float lumHalfSize = _NRD_Luminance(halfSize) + 1e-6;
+    float outside = max(abs(_NRD_Luminance(history) - _NRD_Luminance(mean)) - lumHalfSize, 0.0) / lumHalfSize;
+    samples /= 1.0 + 4.0 * outside * outside;
+    history = clamp(history, mean - 3.0 * halfSize, mean + 3.0 * halfSize);
 
     float newSamples = min(samples + 1.0, gMaxHistoryFrameNum);
     vec3 result = samples > 0.0 ? mix(history, current.xyz, 1.0 / newSamples) : current.xyz;
