@@ -583,3 +583,38 @@ TEST_CASE("MeanValue averages every channel of every pixel", "[metrics]")
     CHECK(nrdlab::MeanValue(image) == Approx(4.0));
     CHECK(nrdlab::MeanValue(nrdlab::Image()) == 0.0);
 }
+
+TEST_CASE("BlockMeans averages each block, the cut blocks at the edges over the pixels they have", "[metrics]")
+{
+    // 5x3, one channel: values x + 10 y; blocks of 2: columns {0,1}, {2,3}, {4}; rows {0,1}, {2}.
+    nrdlab::Image image(5, 3, 1);
+    for (uint32_t y = 0; y < 3; y++)
+        for (uint32_t x = 0; x < 5; x++)
+            image.at(x, y, 0) = float(x + 10 * y);
+    nrdlab::Image means = nrdlab::BlockMeans(image, 2);
+    REQUIRE(means.width == 3);
+    REQUIRE(means.height == 2);
+    REQUIRE(means.channels == 1);
+    CHECK(means.at(0, 0, 0) == Approx(5.5));  // 0, 1, 10, 11
+    CHECK(means.at(2, 0, 0) == Approx(9.0));  // 4, 14
+    CHECK(means.at(1, 1, 0) == Approx(22.5)); // 22, 23
+    CHECK(means.at(2, 1, 0) == Approx(24.0)); // 24
+    CHECK_FALSE(nrdlab::BlockMeans(image, 0).isValid());
+    CHECK_FALSE(nrdlab::BlockMeans(nrdlab::Image(), 8).isValid());
+}
+
+TEST_CASE("RelMSE of block means leaves out zero-mean noise and keeps a region that is too bright", "[metrics]")
+{
+    // Noise of +-0.5 alternating pixel by pixel around 1: relMSE 0.25 / 1.01 per pixel, 0 over
+    // 2x2 blocks. The same image 20% too bright in its left half keeps that error in the blocks.
+    nrdlab::Image truth(8, 8, 1, 1.0f), noisy(8, 8, 1), lagging(8, 8, 1);
+    for (uint32_t y = 0; y < 8; y++)
+        for (uint32_t x = 0; x < 8; x++)
+        {
+            noisy.at(x, y, 0) = (x + y) % 2 ? 1.5f : 0.5f;
+            lagging.at(x, y, 0) = noisy.at(x, y, 0) * (x < 4 ? 1.2f : 1.0f);
+        }
+    CHECK(nrdlab::RelMSE(noisy, truth) == Approx(0.25 / 1.01));
+    CHECK(nrdlab::RelMSE(nrdlab::BlockMeans(noisy, 2), nrdlab::BlockMeans(truth, 2)) == Approx(0.0).margin(1e-12));
+    CHECK(nrdlab::RelMSE(nrdlab::BlockMeans(lagging, 2), nrdlab::BlockMeans(truth, 2)) == Approx(0.5 * 0.04 / 1.01));
+}

@@ -49,9 +49,10 @@ TEST_CASE("The JSON report carries every field of the contract", "[quality]")
     CHECK(j["memory_bytes"].get<uint64_t>() > 0);
     REQUIRE(j["signals"].contains("shadow"));
     const auto& s = j["signals"]["shadow"];
-    for (const char* key : {"relmse_noisy", "relmse_denoised", "psnr_noisy", "psnr_denoised", "ssim_noisy",
-                            "ssim_denoised", "flip_noisy", "flip_denoised", "temporal_instability_denoised",
-                            "temporal_instability_truth", "lag_frames", "mean_noisy", "mean_denoised", "mean_truth"})
+    for (const char* key :
+         {"relmse_noisy", "relmse_denoised", "psnr_noisy", "psnr_denoised", "ssim_noisy", "ssim_denoised", "flip_noisy",
+          "flip_denoised", "temporal_instability_denoised", "temporal_instability_truth", "lag_frames", "mean_noisy",
+          "mean_denoised", "mean_truth", "relmse_lowpass_denoised", "lag_lowpass_frames"})
     {
         INFO(key);
         REQUIRE(s.contains(key));

@@ -543,6 +543,29 @@ double RelMSE(const Image& test, const Image& ref, double eps)
     return sum / double(test.pixelCount() * cc);
 }
 
+Image BlockMeans(const Image& image, uint32_t block)
+{
+    if (!image.isValid() || block == 0)
+        return Image();
+    Image out((image.width + block - 1) / block, (image.height + block - 1) / block, image.channels);
+    for (uint32_t by = 0; by < out.height; ++by)
+        for (uint32_t bx = 0; bx < out.width; ++bx)
+        {
+            const uint32_t x1 = std::min(bx * block + block, image.width);
+            const uint32_t y1 = std::min(by * block + block, image.height);
+            const double count = double(x1 - bx * block) * double(y1 - by * block);
+            for (uint32_t c = 0; c < image.channels; ++c)
+            {
+                double sum = 0.0;
+                for (uint32_t y = by * block; y < y1; ++y)
+                    for (uint32_t x = bx * block; x < x1; ++x)
+                        sum += image.at(x, y, c);
+                out.at(bx, by, c) = float(sum / count);
+            }
+        }
+    return out;
+}
+
 Image ToneMap(const Image& linear, float exposure)
 {
     if (!linear.isValid())

@@ -49,6 +49,12 @@ double MeanValue(const Image& image);
 // Returns -1 on mismatch or if eps is not a positive finite number.
 double RelMSE(const Image& test, const Image& ref, double eps = 0.01);
 
+// Means of 'block' x 'block' pixel blocks (the blocks at the right and bottom edges may be cut and
+// average the pixels they have), every channel; an empty Image if the input is invalid or block is
+// 0. RelMSE of two such images is the error of the low frequencies alone: the noise of a denoised
+// image averages out in a block, a region left too bright or too dark (lag) does not.
+Image BlockMeans(const Image& image, uint32_t block);
+
 // Reinhard tone map of every channel: v = max(x, 0) * exposure, v / (1 + v),
 // clamped to [0, 1]. NaN and +Inf map to 1 so bad pixels show up white.
 // Returns an empty Image if the input is invalid.

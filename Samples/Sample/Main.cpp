@@ -187,6 +187,9 @@ int main(int argc, char** argv)
     std::printf("%-24s %12.5f %12.5f   (truth %.5f)\n", "temporal instability", m.temporalInstabilityNoisy,
                 m.temporalInstabilityDenoised, m.temporalInstabilityTruth);
     std::printf("%-24s %12s %12d   (event frame %d)\n", "lag (frames)", "", r.lagFrames, r.lagEventFrame);
+    std::printf("%-24s %12s %12d   (event frame %d; relMSE of %ux%u block means %.5f)\n", "lag, low-pass (frames)", "",
+                r.lagLowpassFrames, r.lagLowpassEventFrame, nrdlab::kLowpassBlock, nrdlab::kLowpassBlock,
+                m.relmseLowpassDenoised);
     if (o.bounds)
     {
         std::printf("reuse bounds: reprojected truth relMSE %.5f; oracle relMSE %.5f, temporal instability %.5f\n",

@@ -859,6 +859,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         m.meanDenoised = MeanValue(denoised);
         m.meanTruth = MeanValue(truth);
         m.relmseDenoised = RelMSE(denoised, truth);
+        m.relmseLowpassDenoised = RelMSE(BlockMeans(denoised, kLowpassBlock), BlockMeans(truth, kLowpassBlock));
         m.psnrNoisy = Psnr(noisy, truth);
         m.psnrDenoised = Psnr(denoised, truth);
         m.ssimNoisy = Ssim(noisy, truth);
@@ -903,6 +904,7 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
         const FrameMetrics& m = report.perFrame[f];
         mean.relmseNoisy += m.relmseNoisy / n;
         mean.relmseDenoised += m.relmseDenoised / n;
+        mean.relmseLowpassDenoised += m.relmseLowpassDenoised / n;
         mean.psnrNoisy += m.psnrNoisy / n;
         mean.psnrDenoised += m.psnrDenoised / n;
         mean.ssimNoisy += m.ssimNoisy / n;
@@ -960,6 +962,12 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     SuddenChangeLag lag = LagAfterSuddenChanges(errors, truthChange, report.warmup);
     report.lagFrames = lag.frames;
     report.lagEventFrame = lag.eventFrame;
+    errors.clear();
+    for (const FrameMetrics& m : report.perFrame)
+        errors.push_back(m.relmseLowpassDenoised);
+    lag = LagAfterSuddenChanges(errors, truthChange, report.warmup);
+    report.lagLowpassFrames = lag.frames;
+    report.lagLowpassEventFrame = lag.eventFrame;
 
     report.validationMessages = vk.ValidationMessageCount() - validationMessagesBefore;
     if (o.validation && report.validationMessages)
@@ -976,6 +984,7 @@ std::string ReportToJson(const RunReport& r)
         nlohmann::json j;
         j["relmse_noisy"] = m.relmseNoisy;
         j["relmse_denoised"] = m.relmseDenoised;
+        j["relmse_lowpass_denoised"] = m.relmseLowpassDenoised;
         j["psnr_noisy"] = m.psnrNoisy;
         j["psnr_denoised"] = m.psnrDenoised;
         j["ssim_noisy"] = m.ssimNoisy;
@@ -1004,6 +1013,8 @@ std::string ReportToJson(const RunReport& r)
         {
             j["lag_frames"] = rep.lagFrames;
             j["lag_event_frame"] = rep.lagEventFrame;
+            j["lag_lowpass_frames"] = rep.lagLowpassFrames;
+            j["lag_lowpass_event_frame"] = rep.lagLowpassEventFrame;
         }
         return j;
     };

@@ -79,12 +79,18 @@ struct RunOptions
     TimingOptions timing;
 };
 
+// Block size of FrameMetrics::relmseLowpassDenoised, in pixels.
+constexpr uint32_t kLowpassBlock = 8;
+
 // Blend factors of the reuse bounds' oracle (the second is the one reported as 'oracle').
 constexpr float kBoundAlphas[3] = {0.15f, 0.25f, 0.35f};
 
 struct FrameMetrics
 {
     double relmseNoisy = 0, relmseDenoised = 0;
+    // RelMSE of kLowpassBlock x kLowpassBlock block means (Metrics.h, BlockMeans): the error that
+    // noise leaves out, such as light that lags behind a change.
+    double relmseLowpassDenoised = 0;
     double psnrNoisy = 0, psnrDenoised = 0;
     double ssimNoisy = 0, ssimDenoised = 0;
     double flipNoisy = 0, flipDenoised = 0;
@@ -133,6 +139,11 @@ struct RunReport
     int32_t lagFrames = 0;         // Frames to recover after a sudden change, the longest over the
                                    // changes (each counted up to the next one; 0 if none).
     int32_t lagEventFrame = -1;    // That change's frame, -1 if the truth never changes suddenly.
+    // The same on relmseLowpassDenoised: frames until the low frequencies are back, the lag of the
+    // lighting itself (lagFrames also counts the frames a history restarted by the change takes to
+    // average its noise down again).
+    int32_t lagLowpassFrames = 0;
+    int32_t lagLowpassEventFrame = -1;
     std::vector<FrameMetrics> perFrame;
     std::vector<std::pair<std::string, double>> passMs; // Mean GPU time per dispatch name.
     double renderNoisyMs = 0, renderTruthMs = 0;        // Scene-lab time per frame (wall, incl. cache),
