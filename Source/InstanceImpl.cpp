@@ -532,6 +532,7 @@ void FrameContext::PushDispatch(uint32_t templateIndex, const void* constants, u
     if (templateIndex >= method.templates.size())
     {
         m_Instance.m_Log.Error("internal: dispatch template %u does not exist", templateIndex);
+        m_Failed = true;
         return;
     }
     const DispatchTemplate& t = m_Instance.m_Templates[method.templates[templateIndex]];
@@ -540,6 +541,7 @@ void FrameContext::PushDispatch(uint32_t templateIndex, const void* constants, u
         if (previous.name == t.name && previous.resources == m_Instance.m_Resources.data() + t.firstResource)
         {
             m_Instance.m_Log.Error("internal: dispatch '%s' added twice in one frame", t.name);
+            m_Failed = true;
             return;
         }
 
@@ -571,7 +573,7 @@ void FrameContext::PushDispatch(uint32_t templateIndex, const void* constants, u
     method.stages.push_back(m_Stage);
 }
 
-void InstanceImpl::UpdateMethod(uint32_t methodIndex)
+bool InstanceImpl::UpdateMethod(uint32_t methodIndex)
 {
     MethodData& method = m_Methods[methodIndex];
     method.dispatches.clear();
@@ -580,10 +582,18 @@ void InstanceImpl::UpdateMethod(uint32_t methodIndex)
     method.stages.clear();
     FrameContext context(*this, methodIndex, m_Frame);
     method.impl->Update(context);
+    if (context.Failed())
+    {
+        // Nothing of an incomplete frame is handed out; the next call records it again.
+        method.dispatches.clear();
+        method.stages.clear();
+        return false;
+    }
     for (size_t i = 0; i < method.dispatches.size(); i++)
         method.dispatches[i].constantBufferData =
             method.dispatches[i].constantBufferDataSize ? method.constants.data() + method.constantOffsets[i] : nullptr;
     method.updatedEpoch = m_Epoch;
+    return true;
 }
 
 Result InstanceImpl::GetComputeDispatches(const Identifier* identifiers, uint32_t identifiersNum, DispatchStage stage,
@@ -638,8 +648,13 @@ Result InstanceImpl::GetComputeDispatches(const Identifier* identifiers, uint32_
     m_Output.clear();
     for (uint32_t i : order)
     {
-        if (m_Methods[i].updatedEpoch != m_Epoch)
-            UpdateMethod(i);
+        if (m_Methods[i].updatedEpoch != m_Epoch && !UpdateMethod(i))
+        {
+            m_Output.clear();
+            m_Log.Error("GetComputeDispatches: method %u could not record its dispatches (internal error above)",
+                        uint32_t(m_Methods[i].desc.method));
+            return Result::FAILURE;
+        }
         const MethodData& method = m_Methods[i];
         for (size_t d = 0; d < method.dispatches.size(); d++)
             if (stage == DispatchStage::ALL || method.stages[d] == stage)

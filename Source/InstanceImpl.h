@@ -113,6 +113,10 @@ public:
 
     const FrameData& Frame() const { return m_Frame; }
 
+    // True once a dispatch was refused (an internal error, logged): the frame's dispatches are
+    // incomplete and GetComputeDispatches returns FAILURE instead of a partial list.
+    bool Failed() const { return m_Failed; }
+
     // Dispatches added from now on belong to 'stage' (CLASSIFICATION or DENOISING, the default).
     void SetStage(DispatchStage stage) { m_Stage = stage; }
 
@@ -170,6 +174,7 @@ private:
     uint32_t m_MethodIndex;
     const FrameData& m_Frame;
     DispatchStage m_Stage = DispatchStage::DENOISING;
+    bool m_Failed = false;
 };
 
 // Which settings struct a SetMethodSettings call carries.
@@ -282,7 +287,7 @@ private:
     uint16_t AddPipeline(const char* shaderName, const BindingDecl* bindings, uint32_t bindingsNum, bool hasConstants,
                          uint32_t constantsSize, uint16_t groupX, uint16_t groupY);
     void FinalizePools();
-    void UpdateMethod(uint32_t methodIndex);
+    bool UpdateMethod(uint32_t methodIndex); // False: an internal error, nothing recorded.
 
     AllocationCallbacks m_AllocationCallbacks = {};
     const AllocationCallbacks* m_Allocator = nullptr; // Null: operator new.
