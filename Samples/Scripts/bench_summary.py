@@ -7,7 +7,8 @@
    size of the report, measured / bound and memory at --size.
 2. Where each method stands at --size against issue 17's targets (report-only) and the published
    NRD figures (RTX 4080, 2560x1440).
-3. With --again (a second report, same device, default settings): run to run at --size.
+3. Per method, its slowest pass and how many passes are over 3x their bandwidth bound.
+4. With --again (a second report, same device, default settings): run to run at --size.
 """
 import argparse
 import json
@@ -86,6 +87,17 @@ def main():
             memory = (f"<= {limit:.1f} ({MEMORY_SHARE:.0%} of {NRD_MB[method]:.2f}; "
                       f"{'met' if mb(z) <= limit else 'missed'}, {mb(z) / NRD_MB[method]:.0%})")
         print(f"| {method} | {ms:.3f} | {target} | {nrd} | {bound} | {mb(z):.2f} | {memory} |")
+    print()
+
+    print(f"| method | slowest pass at {a.size} (default settings) | its GPU ms | its measured / bound | "
+          f"passes over {TARGET_BOUND_RATIO:g}x their bound |")
+    print("|---|---|---|---|---|")
+    for method, r in first.items():
+        passes = r["sizes"][k]["passes"]
+        slowest = max(passes, key=lambda q: q["gpu_ms"]["median"])
+        over = sum(1 for q in passes if q["measured_over_bound"] > TARGET_BOUND_RATIO)
+        print(f'| {method} | {slowest["name"]} | {slowest["gpu_ms"]["median"]:.3f} | '
+              f'{slowest["measured_over_bound"]:.1f} | {over} of {len(passes)} |')
     print()
 
     if a.again:
