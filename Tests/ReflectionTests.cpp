@@ -36,8 +36,10 @@ DenoiserCreationDesc ReflectionCreationDesc(uint32_t w, uint32_t h)
     return desc;
 }
 
-// Inputs: a plane facing the camera with per-pixel roughness drawn from a mix of mirrors, glossy,
-// rough (beyond the threshold) and NaN values; some sky pixels.
+// Inputs: surfaces facing the camera with per-pixel roughness drawn from a mix of mirrors, glossy
+// (0.3 or random), rough (beyond the threshold) and NaN values, viewZ 10, 11 or 13 (10 and 13 are not one surface,
+// 11 is one with both) and three normals (the second not one surface with the others); some sky
+// pixels.
 struct Inputs
 {
     uint32_t width, height;
@@ -54,15 +56,20 @@ struct Inputs
         radiance.resize(n * 4);
         for (size_t i = 0; i < n; i++)
         {
+            const float normalPick = uniform(rng);
             normal[i * 4 + 0] = 0.5f;
-            normal[i * 4 + 1] = 0.5f;
+            normal[i * 4 + 1] = normalPick < 0.8f ? 0.5f : normalPick < 0.9f ? 0.9f : 0.6f;
             normal[i * 4 + 2] = 0.0f;
+            const float depthPick = uniform(rng);
+            viewZ[i] = depthPick < 0.7f ? 10.0f : depthPick < 0.85f ? 11.0f : 13.0f;
             const float pick = uniform(rng);
             float roughness = uniform(rng);
             if (pick < 0.1f)
                 roughness = 0.0f; // Mirror.
             else if (pick < 0.15f)
                 roughness = std::numeric_limits<float>::quiet_NaN(); // Counts as 1.
+            else if (pick < 0.5f)
+                roughness = 0.3f; // Many neighbours of one roughness: one surface unless viewZ or normal differ.
             normal[i * 4 + 3] = roughness;
             if (uniform(rng) < 0.08f)
                 viewZ[i] = std::numeric_limits<float>::infinity(); // Sky.
@@ -106,7 +113,7 @@ Classification Classify(const Inputs& in, const ReflectionSettings& s, uint32_t 
     Classification c;
     c.needs.assign(size_t(w) * h, 0);
     c.mirror.assign(size_t(w) * h, 0);
-    std::vector<uint8_t> wants(size_t(w) * h, 0), traces(size_t(w) * h, 0);
+    std::vector<uint8_t> wants(size_t(w) * h, 0);
     for (uint32_t y = 0; y < h; y++)
         for (uint32_t x = 0; x < w; x++)
         {
@@ -121,29 +128,78 @@ Classification Classify(const Inputs& in, const ReflectionSettings& s, uint32_t 
             const bool high = variance && s.enableTemporalVarianceGuidedTracing && !((*variance)[i] <= s.temporalVarianceThreshold);
             wants[i] = c.mirror[i] || (c.needs[i] && (IsBaseRay(q, frameIndex, s.raysPerQuad) || high));
         }
-    auto at = [&](const std::vector<uint8_t>& v, uint32_t x, uint32_t y) { return x < w && y < h && v[size_t(y) * w + x]; };
-    for (uint32_t y = 0; y < h; y++)
-        for (uint32_t x = 0; x < w; x++)
+    // Per quad (members in quad order: even x even y, odd x, odd y, both odd; outside the image they
+    // need nothing): which members share a surface, who traces, who copies from whom.
+    auto surface = [&](size_t i, float n[3]) {
+        float len2 = 0.0f;
+        for (int k = 0; k < 3; k++)
         {
-            const uint32_t qx = x & ~1u, qy = y & ~1u;
-            bool quadTraces = false, firstNeeding = true;
-            for (uint32_t k = 0; k < 4; k++)
-                quadTraces = quadTraces || at(wants, qx + (k & 1u), qy + (k >> 1));
-            for (uint32_t k = 0; k < ((x & 1u) | ((y & 1u) << 1u)); k++)
-                firstNeeding = firstNeeding && !at(c.needs, qx + (k & 1u), qy + (k >> 1));
-            traces[size_t(y) * w + x] = at(wants, x, y) || (!quadTraces && at(c.needs, x, y) && firstNeeding);
+            n[k] = in.normal[i * 4 + k] * 2.0f - 1.0f;
+            len2 += n[k] * n[k];
         }
-    for (uint32_t y = 0; y < h; y++)
-        for (uint32_t x = 0; x < w; x++)
+        const float len = std::sqrt(len2);
+        for (int k = 0; k < 3; k++)
+            n[k] /= len;
+    };
+    auto roughness = [&](size_t i) {
+        const float r = in.normal[i * 4 + 3];
+        return std::isfinite(r) ? std::min(std::max(r, 0.0f), 1.0f) : 1.0f;
+    };
+    for (uint32_t qy = 0; qy < h; qy += 2)
+        for (uint32_t qx = 0; qx < w; qx += 2)
         {
-            if (!traces[size_t(y) * w + x])
-                continue;
-            const bool tH = at(traces, x ^ 1u, y), tV = at(traces, x, y ^ 1u), tD = at(traces, x ^ 1u, y ^ 1u);
-            uint32_t entry = x | (y << 14);
-            entry |= at(c.needs, x ^ 1u, y) && !tH ? kCopyH : 0u;
-            entry |= at(c.needs, x, y ^ 1u) && !tV && !tD ? kCopyV : 0u;
-            entry |= at(c.needs, x ^ 1u, y ^ 1u) && !tD && !tV && !tH ? kCopyD : 0u;
-            c.rays.insert(entry);
+            bool inside[4], want[4], need[4], same[4][4], trace[4];
+            size_t idx[4];
+            for (uint32_t k = 0; k < 4; k++)
+            {
+                const uint32_t x = qx + (k & 1u), y = qy + (k >> 1);
+                inside[k] = x < w && y < h;
+                idx[k] = inside[k] ? size_t(y) * w + x : 0;
+                want[k] = inside[k] && wants[idx[k]];
+                need[k] = inside[k] && c.needs[idx[k]];
+            }
+            for (uint32_t a = 0; a < 4; a++)
+                for (uint32_t b = 0; b < 4; b++)
+                {
+                    same[a][b] = a == b;
+                    if (a == b || !need[a] || !need[b])
+                        continue;
+                    float na[3], nb[3];
+                    surface(idx[a], na);
+                    surface(idx[b], nb);
+                    const float ra = roughness(idx[a]), rb = roughness(idx[b]);
+                    const float za = in.viewZ[idx[a]], zb = in.viewZ[idx[b]];
+                    same[a][b] = na[0] * nb[0] + na[1] * nb[1] + na[2] * nb[2] > 0.9f &&
+                                 std::fabs(ra - rb) < 0.05f + 0.1f * std::min(ra, rb) &&
+                                 std::fabs(za - zb) < 0.2f * std::min(za, zb);
+                }
+            // A member that needs the denoiser and has no ray of its surface (no wanted ray of a
+            // same-surface member, no same-surface member before it that traces) traces its own.
+            for (uint32_t k = 0; k < 4; k++)
+            {
+                bool hasRay = false;
+                for (uint32_t j = 0; j < 4; j++)
+                    hasRay = hasRay || (j != k && same[k][j] && (want[j] || (j < k && trace[j])));
+                trace[k] = want[k] || (need[k] && !hasRay);
+            }
+            // Member n takes its copy from its horizontal (n ^ 1), else vertical (n ^ 2), else
+            // diagonal (n ^ 3) member that traces on its surface.
+            const uint32_t copyBits[4] = {0u, kCopyH, kCopyV, kCopyD};
+            for (uint32_t k = 0; k < 4; k++)
+            {
+                if (!trace[k])
+                    continue;
+                uint32_t entry = (qx + (k & 1u)) | ((qy + (k >> 1)) << 14);
+                for (uint32_t d = 1; d < 4; d++)
+                {
+                    const uint32_t n = k ^ d;
+                    bool takes = need[n] && !trace[n] && same[n][k];
+                    for (uint32_t e = 1; e < d; e++)
+                        takes = takes && !(trace[n ^ e] && same[n][n ^ e]);
+                    entry |= takes ? copyBits[d] : 0u;
+                }
+                c.rays.insert(entry);
+            }
         }
     for (uint32_t y = 0; y < h; y++)
         for (uint32_t x = 0; x < w; x++)

@@ -10,7 +10,9 @@
 #include "Reflection_Common.glsl"
 
 shared uint sNeeds[64];   // Pixel needs the denoiser.
-shared uint sTraces[64];  // Pixel traces a ray.
+shared uint sTraces[64];  // Pixel wants a ray (base or variance-guided).
+shared vec4 sSurface[64]; // Normal, roughness.
+shared float sViewZ[64];
 shared uint sScan[2][64]; // Prefix sum (Hillis-Steele, double buffered).
 shared uint sRayBase;
 shared uint sTileNeeded;
@@ -48,32 +50,61 @@ void main()
 
     sNeeds[index] = needsDenoiser ? 1u : 0u;
     sTraces[index] = wantsRay ? 1u : 0u;
+    sSurface[index] = vec4(NRD_FrontEnd_UnpackNormalAndRoughness(normalRoughness).xyz, roughness);
+    sViewZ[index] = viewZ;
     barrier();
 
-    // Quad neighbours: horizontal, vertical, diagonal.
-    uint iH = LocalIndex(local ^ uvec2(1u, 0u));
-    uint iV = LocalIndex(local ^ uvec2(0u, 1u));
-    uint iD = LocalIndex(local ^ uvec2(1u, 1u));
-    // A quad whose base rays all fell on pixels that need no ray still gets one: its first pixel
-    // (in quad order) that needs the denoiser traces.
-    bool quadTraces = sTraces[index] + sTraces[iH] + sTraces[iV] + sTraces[iD] != 0u;
-    bool isFirstNeeding = true;
-    for (uint k = 0u; k < q; k++)
+    // Quad members in quad order (0: even x, even y; 1: odd x; 2: odd y; 3: both odd), and which of
+    // them share this surface: a ray is only ever copied within a surface (a thin object in front
+    // of a floor must not receive the floor's reflection).
+    uvec2 quadBase = local & ~uvec2(1u);
+    uint members[4];
+    bool wants[4], needs[4];
+    for (uint k = 0u; k < 4u; k++)
     {
-        uvec2 o = (local & ~uvec2(1u)) + uvec2(k & 1u, k >> 1u);
-        isFirstNeeding = isFirstNeeding && sNeeds[LocalIndex(o)] == 0u;
+        members[k] = LocalIndex(quadBase + uvec2(k & 1u, k >> 1u));
+        wants[k] = sTraces[members[k]] != 0u;
+        needs[k] = sNeeds[members[k]] != 0u;
     }
-    bool traces = wantsRay || (!quadTraces && needsDenoiser && isFirstNeeding);
-    barrier();
-    sTraces[index] = traces ? 1u : 0u;
-    barrier();
+    bool same[16];
+    for (uint a = 0u; a < 4u; a++)
+        for (uint b = 0u; b < 4u; b++)
+        {
+            vec4 sa = sSurface[members[a]], sb = sSurface[members[b]];
+            same[a * 4u + b] = a == b || (needs[a] && needs[b] &&
+                                          _RF_IsSameSurface(sa.xyz, sa.w, sViewZ[members[a]], sb.xyz, sb.w, sViewZ[members[b]]));
+        }
+    // A pixel that needs the denoiser and has no ray of its surface in the quad (no base or
+    // variance-guided ray of a same-surface member, and no member before it in quad order that
+    // traces for this reason) traces its own.
+    bool tracesK[4];
+    for (uint k = 0u; k < 4u; k++)
+    {
+        bool hasRay = false;
+        for (uint j = 0u; j < 4u; j++)
+            hasRay = hasRay || (j != k && same[k * 4u + j] && (wants[j] || (j < k && tracesK[j])));
+        tracesK[k] = wants[k] || (needs[k] && !hasRay);
+    }
 
     // Copies: a pixel that needs the denoiser and traces nothing takes the ray of its horizontal
-    // neighbour, else its vertical one, else the diagonal one.
-    bool tH = sTraces[iH] != 0u, tV = sTraces[iV] != 0u, tD = sTraces[iD] != 0u;
-    bool copyH = traces && sNeeds[iH] != 0u && !tH;
-    bool copyV = traces && sNeeds[iV] != 0u && !tV && !tD;
-    bool copyD = traces && sNeeds[iD] != 0u && !tD && !tV && !tH;
+    // neighbour, else its vertical one, else the diagonal one, each only on the same surface.
+    // Member index of this pixel and of its neighbours: horizontal q ^ 1, vertical q ^ 2, diagonal q ^ 3.
+    bool traces = tracesK[q];
+    // Does member n take its copy from member 'from'? n's own order: n ^ 1, then n ^ 2, then n ^ 3.
+    bool copyH = false, copyV = false, copyD = false;
+    if (traces)
+    {
+        for (uint d = 1u; d < 4u; d++)
+        {
+            uint n = q ^ d;
+            bool takes = needs[n] && !tracesK[n] && same[n * 4u + q];
+            for (uint e = 1u; e < d; e++)
+                takes = takes && !(tracesK[n ^ e] && same[n * 4u + (n ^ e)]);
+            copyH = copyH || (d == 1u && takes);
+            copyV = copyV || (d == 2u && takes);
+            copyD = copyD || (d == 3u && takes);
+        }
+    }
 
     // Local prefix sum of the rays, then one atomic per group.
     sScan[0][index] = traces ? 1u : 0u;

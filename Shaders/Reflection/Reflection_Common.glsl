@@ -41,6 +41,15 @@ bool _RF_NeedsDenoiser(bool isValid, float roughness, float mirrorRoughness, flo
     return isValid && !(roughness < mirrorRoughness) && roughness <= roughnessThreshold;
 }
 
+// Do two pixels of a quad that need the denoiser lie on one surface (a ray of one may be copied to
+// the other)? Normals within about 25 degrees, roughness as the reprojection's history test, viewZ
+// within 20%.
+bool _RF_IsSameSurface(vec3 Na, float roughnessA, float viewZA, vec3 Nb, float roughnessB, float viewZB)
+{
+    return dot(Na, Nb) > 0.9 && abs(roughnessA - roughnessB) < 0.05 + 0.1 * min(roughnessA, roughnessB) &&
+           abs(viewZA - viewZB) < 0.2 * min(viewZA, viewZB);
+}
+
 // Is quad position 'q' (x & 1 | (y & 1) << 1) a base ray of this frame at 'raysPerQuad' rays per quad?
 // 1: one position, rotating through the quad over 4 frames; 2: one diagonal, alternating; 4: all.
 bool _RF_IsBaseRay(uint q, uint frameIndex, uint raysPerQuad)
