@@ -325,7 +325,10 @@ struct ConfidenceSettings
     float gradientThreshold = 0.05f;
 
     // Slope of the confidence above the threshold: confidence reaches 0 at a normalized gradient of
-    // gradientThreshold + 1 / gradientSensitivity, [1, 1000].
+    // gradientThreshold + 1 / gradientSensitivity, [1, 1000]. 1 lowers the error of REBLUR and
+    // RELAX_DIFFUSE on every lighting change of the scene lab; 2 restarts their history where a
+    // light switches and halves the lag behind it, at a cost where a light toggles every few frames
+    // (Shaders/Confidence/README.md, which also has RELAX_SPECULAR's figures).
     float gradientSensitivity = 1.0f;
 
     // Weight of last frame's confidence where the new one is lower (history being invalidated),
@@ -333,11 +336,11 @@ struct ConfidenceSettings
     float fallHistoryWeight = 0.0f;
 
     // Weight of last frame's confidence where the new one is higher (history recovering), [0, 1).
-    // Both weights default to 0 (no temporal filter): measured with REBLUR on the scene lab, whose
-    // first frame after a change is unbiased, any confidence below 1 on the frames after a change
-    // restarts REBLUR's short histories again (it multiplies the history length by the confidence
-    // and rounds down) and costs more than it smooths (Shaders/Confidence/README.md). Applications
-    // whose lighting is biased right after a change (ReSTIR) raise them.
+    // Both weights default to 0 (no temporal filter): the scene lab's gradients are exact and its
+    // first frame after a change is unbiased, and a confidence held below 1 on the frames after a
+    // change keeps the consumers' histories short where a light toggles every few frames (RELAX
+    // relMSE 1.7x with riseHistoryWeight 0.5 on toggling_light, Shaders/Confidence/README.md).
+    // Applications whose lighting is biased right after a change (ReSTIR) raise them.
     float riseHistoryWeight = 0.0f;
 
     // A-trous passes over the gradients (3x3 kernel, steps 1, 2, 4, ...), [1, CONFIDENCE_MAX_ATROUS_PASS_NUM].

@@ -1,7 +1,8 @@
 // CONFIDENCE on the scene lab (64x64, few frames, truth at few samples: the frames the lab caches):
 // exactly 1 on a still scene, below 0.5 around a switched light within 2 frames, and the bar of
-// issue 16 for REBLUR with and without confidence: on scenes whose lighting changes the lag at
-// least halved and relMSE no higher; on scenes whose lighting does not change relMSE within 5%.
+// issue 16 for REBLUR and RELAX with and without confidence: on scenes whose lighting changes the
+// lag at least halved and relMSE no higher (where met; the misses pinned); on scenes whose lighting
+// does not change relMSE within 5%.
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
@@ -119,41 +120,60 @@ Pair RunBoth(const std::string& scene, const std::string& method, uint32_t frame
 
 } // namespace
 
-TEST_CASE("REBLUR with CONFIDENCE: relMSE no higher and lag no longer where lighting changes", "[quality][confidence]")
+TEST_CASE("REBLUR and RELAX with CONFIDENCE: relMSE no higher and the light no longer lagging where lighting changes",
+          "[quality][confidence]")
 {
-    // Issue 16's bar is relMSE no higher and lag at least halved. Measured (Shaders/Confidence/README.md):
-    // light_switch and toggling_light meet relMSE; moving_light does not (a light moving every
-    // frame lowers confidence everywhere, every frame), pinned at its measured ratio (1.79 over 24
-    // frames, 1.12 over 48) with a margin; the lab's lag metric reads 8 frames (its window to the next change) with and without
-    // confidence on light_switch at 64x64, so only "no longer" is asserted.
+    // Issue 16's bar is relMSE no higher and lag at least halved (Shaders/Confidence/README.md has
+    // the figures of every consumer, RELAX_SPECULAR's misses included). With the default settings
+    // relMSE is lower on every scene here, and the low-pass lag (the light left behind,
+    // RunReport::lagLowpassFrames) no longer. On light_switch the lamp coming back stays 6-9% too
+    // dark for the rest of the run with and without confidence at the default sensitivity (1);
+    // sensitivity 2 restarts the history where the lamp switches (confidence 0 from a normalized
+    // gradient of 0.55) and halves the low-pass lag, at a cost in relMSE where a light toggles
+    // every 4 frames (the consumers' first frames after a restart are noisy): not the default.
     struct Scene
     {
         const char* name;
         const char* method;
         uint32_t frames;
-        double relmseRatio; // Largest accepted relMSE with / without.
     };
-    const Scene scenes[] = {{"light_switch", "REBLUR_DIFFUSE", 32, 1.0},
-                            {"light_switch", "REBLUR_SPECULAR", 32, 1.0},
-                            {"toggling_light", "REBLUR_DIFFUSE", 24, 1.0},
-                            {"moving_light", "REBLUR_DIFFUSE", 24, 1.9}};
+    const Scene scenes[] = {{"light_switch", "REBLUR_DIFFUSE", 40},  {"light_switch", "RELAX_DIFFUSE", 40},
+                            {"light_switch", "REBLUR_SPECULAR", 32}, {"toggling_light", "REBLUR_DIFFUSE", 24},
+                            {"toggling_light", "RELAX_DIFFUSE", 24}, {"moving_light", "REBLUR_DIFFUSE", 24},
+                            {"moving_light", "RELAX_DIFFUSE", 24}};
     for (const Scene& s : scenes)
     {
         Pair p = RunBoth(s.name, s.method, s.frames);
         INFO(s.name << " " << s.method << ": relMSE " << p.without.mean.relmseDenoised << " -> "
-                    << p.with.mean.relmseDenoised << ", lag " << p.without.lagFrames << " -> " << p.with.lagFrames);
-        CHECK(p.with.mean.relmseDenoised <= s.relmseRatio * p.without.mean.relmseDenoised);
-        if (p.without.lagEventFrame >= 0)
-            CHECK(p.with.lagFrames <= p.without.lagFrames);
+                    << p.with.mean.relmseDenoised << ", lag " << p.without.lagFrames << " -> " << p.with.lagFrames
+                    << ", low-pass lag " << p.without.lagLowpassFrames << " -> " << p.with.lagLowpassFrames);
+        CHECK(p.with.mean.relmseDenoised <= p.without.mean.relmseDenoised);
+        if (p.without.lagLowpassEventFrame >= 0)
+            CHECK(p.with.lagLowpassFrames <= p.without.lagLowpassFrames);
+
+        if (std::string(s.name) == "light_switch" && std::string(s.method) != "REBLUR_SPECULAR")
+        {
+            nrdlab::RunOptions o = SmallRun(s.name, s.method, s.frames);
+            o.confidence = true;
+            o.settingsJson = R"({"confidence": {"gradientSensitivity": 2}})";
+            nrdlab::RunReport steep = Run(o);
+            INFO("sensitivity 2: low-pass lag " << steep.lagLowpassFrames << ", relMSE " << steep.mean.relmseDenoised);
+            REQUIRE(p.without.lagLowpassEventFrame >= 0);
+            CHECK(2 * steep.lagLowpassFrames <= p.without.lagLowpassFrames);
+        }
     }
 }
 
-TEST_CASE("REBLUR with CONFIDENCE: relMSE within 5% where lighting does not change", "[quality][confidence]")
+TEST_CASE("REBLUR and RELAX with CONFIDENCE: relMSE within 5% where lighting does not change", "[quality][confidence]")
 {
-    for (const char* scene : {"static", "camera_translation"})
+    // Confidence is exactly 1 on these scenes, so the output is the same with and without it.
+    const std::pair<const char*, const char*> runs[] = {
+        {"static", "REBLUR_DIFFUSE"}, {"camera_translation", "REBLUR_DIFFUSE"}, {"static", "RELAX_DIFFUSE"}};
+    for (const auto& run : runs)
     {
-        Pair p = RunBoth(scene, "REBLUR_DIFFUSE", 16);
-        INFO(scene << ": relMSE " << p.without.mean.relmseDenoised << " -> " << p.with.mean.relmseDenoised);
+        Pair p = RunBoth(run.first, run.second, 16);
+        INFO(run.first << " " << run.second << ": relMSE " << p.without.mean.relmseDenoised << " -> "
+                       << p.with.mean.relmseDenoised);
         CHECK(p.with.mean.relmseDenoised <= 1.05 * p.without.mean.relmseDenoised);
     }
 }
