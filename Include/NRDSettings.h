@@ -385,11 +385,12 @@ struct RelaxSettings
     // Slow history clamped to the fast history's 3x3 mean +- this many standard deviations, [0.5, 4].
     float historyClampingColorBoxSigmaScale = 2.0f;
 
-    // Anti-lag beyond the fast-history clamp: a 5x5 mean of this frame's input this many standard
-    // deviations (and 10%) from the same taps of the previous fast history shortens both
-    // histories; so does a slow history this far from the pixel's fast history. [0, 16], 0 (the
-    // default) turns it off: on the scene lab it cost still scenes accuracy without shortening the
-    // lag after a light switch (see Shaders/Relax/README.md).
+    // Anti-lag beyond the clamps: a 5x5 mean of this frame's input this many standard deviations
+    // (of the difference of the means, plus 1% of the mean) from the same taps of the previous fast
+    // history shortens both histories; so does a slow history this far from the pixel's fast
+    // history. [0, 16], 0 (the default) turns it off: on the scene lab it cost still scenes
+    // accuracy, and the mean clamps (diffuse) follow a light switch without it (see
+    // Shaders/Relax/README.md).
     float antilagSigmaScale = 0.0f;
 
     // Histories shorter than this many frames take a 7x7 spatial variance, [0, RELAX_MAX_HISTORY_FRAME_NUM].

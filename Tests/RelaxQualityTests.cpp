@@ -3,8 +3,10 @@
 // warm-up, truth at 64 samples per pixel (lavapipe time; the frame cache makes reruns cheap).
 // Still scenes: relMSE at most 1/10 of the noisy input's (diffuse) and 1/6 (specular); everywhere:
 // FLIP below the input's, temporal instability at most half the input's, the mean within 3% of the
-// truth's. Every figure is printed next to the bar. light_switch (lag at most 3 frames) is not
-// asserted yet: it has not been measured since the fast history is clamped to the input.
+// truth's. Every figure is printed next to the bar. light_switch (64x64): the denoised mean follows
+// the lamp within 3 frames of each switch. The lag figure of the bar (at most 3 frames at 128x128)
+// is measured by nrd-sample on the GPU (Shaders/Relax/README.md): on lavapipe's 64-spp truth the
+// error of the dark frames alone sits near twice the lit frames' and the figure is noise.
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
@@ -25,13 +27,13 @@ struct Measured
     int32_t lag = 0;
 };
 
-Measured Run(const char* scene, const char* signal)
+Measured Run(const char* scene, const char* signal, uint32_t size = 128, nrdlab::RunReport* report = nullptr)
 {
     nrdlab::RunOptions o;
     o.scene = scene;
     o.method = std::string("RELAX_") + (std::string(signal) == "diffuse" ? "DIFFUSE" : "SPECULAR");
     o.signal = signal;
-    o.width = o.height = 128;
+    o.width = o.height = size;
     o.frames = 40; // 32 measured.
     o.warmup = 8;
     o.truthSpp = 64;
@@ -48,6 +50,8 @@ Measured Run(const char* scene, const char* signal)
     m.instabilityDenoised = r.mean.temporalInstabilityDenoised;
     m.meanBias = std::fabs(r.mean.meanDenoised / std::max(r.mean.meanTruth, 1e-12) - 1.0);
     m.lag = r.lagEventFrame >= 0 ? r.lagFrames : 0;
+    if (report)
+        *report = r;
     std::printf("%s %-14s %-8s relMSE noisy/denoised %5.1f  FLIP %.4f -> %.4f  instability %.5f -> %.5f  mean bias "
                 "%.2f%%  lag %d\n",
                 o.method.c_str(), scene, signal, m.relmseRatio, m.flipNoisy, m.flipDenoised, m.instabilityNoisy,
@@ -68,8 +72,27 @@ void CheckBar(const Measured& m, double ratio, double maxBias = 0.03)
 
 TEST_CASE("RELAX meets the quality bar on a still scene", "[quality]")
 {
+    // Measured on lavapipe: diffuse relMSE 20.6x below the input's, mean bias 0.11%; specular 24.6x,
+    // mean 1.3% below the truth's.
     CheckBar(Run("static", "diffuse"), 10.0);
-    // Measured on lavapipe: diffuse relMSE 16.4x below the input's, mean bias 0.26%; specular 26.2x,
-    // mean 3.43% off the truth's (above the 3% bar: pinned).
-    CheckBar(Run("static", "specular"), 6.0, 0.036);
+    CheckBar(Run("static", "specular"), 6.0);
+}
+
+TEST_CASE("RELAX follows a light switched off and on within 3 frames", "[quality]")
+{
+    // light_switch: the lamp turns off at frame 16 (the mean radiance drops by 19%) and on at 24.
+    // From the third frame after each switch the denoised mean is within 2% of the truth's (before
+    // the mean clamps: still 14% above it 3 frames after the lamp went off, 7% below 3 frames after
+    // it came back).
+    nrdlab::RunReport r;
+    Measured m = Run("light_switch", "diffuse", 64, &r);
+    CHECK(m.relmseRatio >= 3.0);
+    CHECK(m.meanBias <= 0.03);
+    REQUIRE(r.perFrame.size() == 40);
+    for (size_t f : {19, 20, 21, 22, 23, 27, 28, 29, 30, 31})
+    {
+        const nrdlab::FrameMetrics& fm = r.perFrame[f];
+        INFO("frame " << f << ": mean " << fm.meanDenoised << ", truth " << fm.meanTruth);
+        CHECK(std::fabs(fm.meanDenoised / fm.meanTruth - 1.0) <= 0.02);
+    }
 }

@@ -11,10 +11,11 @@
 //   1 / (n + 1), n = min(history length, gMaxAccumulatedFrameNum); fast history: radiance with
 //   n = min(history length, gMaxFastAccumulatedFrameNum);
 // - the fast history is clamped to this frame's 3x3 input neighbourhood before it is blended;
+// - diffuse: both histories' 5x5 means are kept near this frame's input mean (mean clamp);
 // - history that is not finite restarts;
-// - anti-lag: a 5x5 box mean of this frame's input luminance far from the same box of the previous
-//   fast history (beyond gAntilagSigma standard deviations of such a mean, and 10% of the larger)
-//   shortens both histories;
+// - anti-lag (optional): a 5x5 box mean of this frame's input luminance far from the same box of the
+//   previous fast history (beyond gAntilagSigma standard deviations of the difference) shortens both
+//   histories;
 // - specular: the history of glossy surfaces is shortened by the parallax between the surface and
 //   virtual reprojections, n <= max / (1 + parallax in pixels * (1 - roughness)^2);
 // - optional confidence input: the history length is multiplied by it;
@@ -28,7 +29,17 @@
 #include "Reprojection.glsl"
 
 // Half-width of the fast history's clamping box, in standard deviations of this frame's 3x3 input.
+// Specular is heavy-tailed: a 3x3 box of its samples is narrow and low more often than wide and high,
+// and a tight clamp darkens the history; 4 still removes absurd history within a frame.
+#if RELAX_SPECULAR
+#define RELAX_FAST_CLAMP_SIGMA 4.0
+#else
 #define RELAX_FAST_CLAMP_SIGMA 2.0
+#endif
+
+// Diffuse: local means of a history and of the input further apart than this many standard
+// deviations of their difference are brought to this distance (mean clamp).
+#define RELAX_MEAN_CLAMP_SIGMA 1.0
 
 bool IsTraced(ivec2 p)
 {
@@ -188,46 +199,86 @@ void main()
     float maxFast = gMaxFastAccumulatedFrameNum;
 #endif
 
-    // Anti-lag: this frame's 5x5 input mean against the 5x5 mean of the previous fast history
-    // around the reprojected point (the same taps on both sides, so spatial structure cancels).
+    // Local means (5x5 taps on the same surface, this frame's input against the same taps of the
+    // previous histories around the reprojected point, so that spatial structure cancels):
+    // - diffuse mean clamp: a history whose local mean is further from the input's than the noise of
+    //   the two means allows (RELAX_MEAN_CLAMP_SIGMA standard deviations, from the temporal variance
+    //   of one sample, plus 2%) is shifted by the excess, keeping its own detail, so that a lighting
+    //   change is followed within frames; the test is on means, with a variance that does not depend
+    //   on this frame's samples, so still history is moved up as often as down (no darkening).
+    //   Specular does not: its heavy tail would spread single bright samples over the 5x5 history;
+    // - anti-lag (optional, gAntilagSigma > 0): a mean beyond gAntilagSigma of the same noise
+    //   shortens both histories.
+#if RELAX_SPECULAR
     if (hasHistory && hasSample && gAntilagSigma > 0.0)
+#else
+    if (hasHistory && hasSample)
+#endif
     {
         ivec2 prevCenter = ivec2(floor(uvPrev * vec2(gResourceSize)));
-        float sum = 0.0, sumSq = 0.0, sumPrev = 0.0, count = 0.0;
+        vec3 sumIn = vec3(0.0), sumFast = vec3(0.0), sumSlow = vec3(0.0);
+        float sumVariance = 0.0, sumSq = 0.0, count = 0.0;
         for (int dy = -2; dy <= 2; dy++)
             for (int dx = -2; dx <= 2; dx++)
             {
                 ivec2 q = pixel + ivec2(dx, dy), qPrev = prevCenter + ivec2(dx, dy);
                 if (!Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q))
                     continue;
-                float zq = texelFetch(gIn_ViewZ, q, 0).x;
+                // Same surface now (as the fast history's clamping box) and before (viewZ).
+                RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
                 float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
-                if (_NRD_IsSky(zq) || abs(zq - s.z) > 0.05 * s.z || !(zPrev > 0.0) || abs(zPrev - zExpected) > 0.05 * zExpected)
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.N, n.N) < 0.8 || !(zPrev > 0.0) ||
+                    abs(zPrev - zExpected) > 0.05 * zExpected)
                     continue;
                 vec4 raw = texelFetch(gIn_Signal, q, 0);
                 if (!Relax_IsSample(raw))
                     continue;
-                float l = _NRD_Luminance(Relax_SanitizeSignal(raw).rgb);
-                sum += l;
+                vec3 c = Relax_SanitizeSignal(raw).rgb;
+                vec4 f = _NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0), 0.0);
+                vec3 sl = _NRD_Sanitize(texelFetch(gPrev_Slow, qPrev, 0).rgb, 0.0);
+                float l = _NRD_Luminance(c), ls = _NRD_Luminance(sl);
+                sumIn += c;
+                sumFast += f.rgb;
+                sumSlow += sl;
                 sumSq += l * l;
-                sumPrev += _NRD_Luminance(_NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0).rgb, 0.0));
+                sumVariance += max(f.w * f.w - ls * ls, 0.0);
                 count += 1.0;
             }
         if (count > 0.0)
         {
-            float mean = sum / count, meanPrev = sumPrev / count;
+            vec3 meanIn = sumIn / count, meanFast = sumFast / count, meanSlow = sumSlow / count;
+            float lIn = _NRD_Luminance(meanIn), lFast = _NRD_Luminance(meanFast), lSlow = _NRD_Luminance(meanSlow);
+            // Variance of one sample: the histories' temporal estimate; this frame's spatial one while
+            // the history is too short to have one (a light that turns on had no temporal variance).
+            float variance = sumVariance / count;
+            if (prevLength < gVarianceHistoryThreshold)
+                variance = max(variance, max(sumSq / count - lIn * lIn, 0.0));
+            float nFastPrev = min(prevLength, maxFast), nSlowPrev = min(prevLength, maxSlow);
+            // An exponential average with alpha 1 / (n + 1) holds 1 / (2n + 1) of one sample's variance.
+            float floorSigma = 0.01 * max(lIn, max(lFast, lSlow)) + 1e-6;
+            float sigmaFast = sqrt(variance / count * (1.0 + 1.0 / (2.0 * nFastPrev + 1.0))) + floorSigma;
+            float sigmaSlow = sqrt(variance / count * (1.0 + 1.0 / (2.0 * nSlowPrev + 1.0))) + floorSigma;
             float slowLuma = _NRD_Luminance(prevSlow.rgb);
-            // Standard deviation of the mean of 'count' samples, from the larger of the history's
-            // variance of one sample and this frame's spatial variance (a light that turns on had no
-            // temporal variance; a dark, sparse signal may have no spatial variance in 5x5).
-            float temporalVariance = max(prevFast.w * prevFast.w - slowLuma * slowLuma, 0.0);
-            float spatialVariance = max(sumSq / count - mean * mean, 0.0);
-            float sigma = sqrt(max(temporalVariance, spatialVariance) / count);
-            float delta = abs(mean - meanPrev);
-            float threshold = max(gAntilagSigma * sigma, 0.1 * max(mean, meanPrev)) + 1e-6;
-            float excess = clamp((delta - threshold) / threshold, 0.0, 1.0);
-            prevLength *= 1.0 - excess;
-            maxFast *= 1.0 - excess;
+
+            float dFast = abs(lIn - lFast), dSlow = abs(lIn - lSlow);
+#if !RELAX_SPECULAR
+            float thresholdFast = RELAX_MEAN_CLAMP_SIGMA * sigmaFast, thresholdSlow = RELAX_MEAN_CLAMP_SIGMA * sigmaSlow;
+            if (dFast > thresholdFast)
+                prevFast.rgb = max(prevFast.rgb + (meanIn - meanFast) * (1.0 - thresholdFast / dFast), vec3(0.0));
+            if (dSlow > thresholdSlow)
+                prevSlow.rgb = max(prevSlow.rgb + (meanIn - meanSlow) * (1.0 - thresholdSlow / dSlow), vec3(0.0));
+            // The second moment moves with the mean (same variance).
+            float slowLumaNew = _NRD_Luminance(prevSlow.rgb);
+            prevFast.w = sqrt(max(prevFast.w * prevFast.w + slowLumaNew * slowLumaNew - slowLuma * slowLuma, slowLumaNew * slowLumaNew));
+#endif
+
+            if (gAntilagSigma > 0.0)
+            {
+                float threshold = gAntilagSigma * sigmaFast;
+                float excess = clamp((dFast - threshold) / threshold, 0.0, 1.0);
+                prevLength *= 1.0 - excess;
+                maxFast *= 1.0 - excess;
+            }
         }
     }
 
