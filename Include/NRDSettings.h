@@ -207,7 +207,7 @@ struct ReblurSettings
     uint32_t historyFixFrameNum = 3;
 
     // Pixel stride of the history fix's 5x5 sampling at history length 0, [1, 16].
-    float historyFixStride = 6.0f;
+    float historyFixStride = 3.0f;
 
     // Largest blur radius in pixels (short history, far hits, rough specular), [0, REBLUR_MAX_BLUR_RADIUS].
     float blurRadius = 24.0f;

@@ -59,8 +59,7 @@ struct Shortfall
 
 // clang-format off
 const Shortfall kShortfalls[] = {
-    {"camera_translation", "diffuse", 4.34, 0.0, 0.0},     // ratio 4.57 (bar 4.90)
-    {"camera_translation", "specular", 5.30, 0.0, 0.0},    // ratio 5.58 (bar 6.10)
+    {"camera_translation", "specular", 5.62, 0.0, 0.0},    // ratio 5.92 (bar 6.10)
     {"light_switch", "diffuse", 2.01, 1.11, 0.086},        // ratio 2.12 (bar 3.71), FLIP 0.0935 -> 0.0990, bias +8.2%, lag 8
 };
 // clang-format on
@@ -176,8 +175,8 @@ TEST_CASE("REBLUR with checkerboard input stays within its measured factor of th
         std::printf("REBLUR %s checkerboard relMSE %.5f, full rate %.5f\n", signal, half.mean.relmseDenoised,
                     full.mean.relmseDenoised);
         INFO(signal);
-        // Not met yet: measured 3.69x (diffuse) and 1.95x (specular) the full-rate error, pinned
+        // Not met yet: measured 2.01x (diffuse) and 1.93x (specular) the full-rate error, pinned
         // 5% above; the bar is 1.5x (Shaders/Reblur/README.md).
-        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 3.88 : 2.05) * full.mean.relmseDenoised);
+        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 2.11 : 2.03) * full.mean.relmseDenoised);
     }
 }

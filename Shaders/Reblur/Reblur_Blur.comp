@@ -40,7 +40,7 @@ void Store(ivec2 pixel, vec4 v)
 
 // History fix (document 004, REBLUR: "history fix"), run by the blur where the history is shorter
 // than gHistoryFixFrameNum frames (disocclusion, anti-lag): a 5x5 sparse grid whose stride shrinks
-// as the history grows, weighted by geometry and favouring neighbours with a longer history.
+// as the history grows, weighted by geometry.
 vec4 HistoryFix(ivec2 pixel, ReblurSurface s, vec4 center, float historyLength)
 {
     ivec2 maxPixel = ivec2(gResourceSize) - 1;
@@ -63,12 +63,13 @@ vec4 HistoryFix(ivec2 pixel, ReblurSurface s, vec4 center, float historyLength)
             vec4 nr = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), q, 0));
             vec3 Xs = _NRD_ViewPosition(_NRD_PixelUv(q), z);
             vec3 Ns = normalize(transpose(mat3(gViewToWorld)) * nr.xyz);
-            float w = _Reblur_GeometryWeight(s, Xs, Ns, nr.w);
-            // Neighbours with a longer history carry more information.
-            w *= 1.0 + clamp(_NRD_Sanitize(texelFetch(sampler2D(gIn_Fast, gNearestClamp), q, 0).y, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
+            vec4 v = LoadSignal(q);
+            // Gaussian falloff over the grid: a flat average of the whole 5x5 grid (12x12 pixels at
+            // length 0) carried light into contact shadows and corners.
+            float w = _Reblur_GeometryWeight(s, Xs, Ns, nr.w) * exp(-0.25 * float(i * i + j * j));
             if (w > 0.0)
             {
-                sum += _Reblur_Compress(LoadSignal(q), k) * w;
+                sum += _Reblur_Compress(v, k) * w;
                 weightSum += w;
             }
         }

@@ -13,6 +13,22 @@
 // Largest radiance kept (fp16 storage, and 1e30 inputs cannot overflow the sums).
 #define REBLUR_MAX_RADIANCE 60000.0
 
+// Plane distance a reprojected diffuse history tap may have from the surface, in units of
+// gDisocclusionThreshold * viewZ (0.1% of viewZ with the default threshold; fp16 viewZ keeps
+// 0.05%). 1 (1% of viewZ) still let the gaps between the parts of mesh_engine through.
+#define REBLUR_PLANE_TOLERANCE 0.1
+
+// The anti-lag's noise estimate of specular radiance, relative to diffuse's: single specular
+// samples are heavy-tailed (rare bright ones), so the fast history strays from the slow one by more
+// than a Gaussian's few sigma far more often; each such cut shortened the history soon after the
+// rare bright samples had entered it at a small weight, and darkened the mean (sky at 64x64:
+// -5.3% with 1, -2.9% with 1.5, -1.3% with 2; camera_translation's error rises with it).
+#define REBLUR_SPECULAR_ANTILAG_NOISE_SCALE 1.5
+
+// Temporal stabilization under camera motion: its history length is divided by 1 + this times the
+// camera's motion in pixels (each resampling of the stabilized history blurs it a little more).
+#define REBLUR_STABILIZATION_MOTION_SCALE 4.0
+
 //==================================================================================================
 // Inputs.
 //==================================================================================================
@@ -165,6 +181,10 @@ float _Reblur_HitDistFactor(float normHitDist, float viewZ, float roughness)
 
 float _Reblur_BlurRadius(float historyLength, float normHitDist, float viewZ, float roughness)
 {
+    // Checkerboard: the length counts samples, one every other frame; the radius follows frames (a
+    // radius for half the samples washed out contact shadows: 3.7x the full-rate relMSE on static).
+    if (gCheckerboard != 0u)
+        historyLength *= 2.0;
     float historyScale = 1.0 / (1.0 + historyLength);
     float r = gBlurRadius * historyScale * _Reblur_HitDistFactor(normHitDist, viewZ, roughness);
 #if REBLUR_SPECULAR
@@ -194,6 +214,27 @@ struct ReblurReprojection
     float virtualAmount;      // Blend of the virtual history, [0, 1].
 };
 
+// Drops the footprint taps whose previous surface point lies off the plane of the reprojected
+// point (its previous view-space position and normal): a viewZ tolerance that admits slanted
+// planes (it grows with the slope) also admits other surfaces a few pixels deep behind or in
+// front, which on detailed geometry (gaps between small parts) blends unrelated lighting into the
+// history at every frame. The plane test is exact on planes of any slope.
+void _Reblur_PlaneTest(inout NrdReprojection r, vec4 prevViewZ, vec3 XvPrev, vec3 NvPrev, float tolerance)
+{
+    for (int k = 0; k < 4; k++)
+    {
+        if (r.weights[k] <= 0.0)
+            continue;
+        vec2 uvTap = (vec2(r.footprint.origin + ivec2(k & 1, k >> 1)) + 0.5) * gInvResourceSize;
+        vec3 Xt = _NRD_ViewPosition(uvTap, prevViewZ[k]);
+        if (abs(dot(NvPrev, Xt - XvPrev)) > tolerance)
+            r.weights[k] = 0.0;
+    }
+    float before = r.footprintWeight;
+    r.footprintWeight = dot(r.weights, vec4(1.0));
+    r.isCatmullRomAllowed = r.isCatmullRomAllowed && r.footprintWeight >= before;
+}
+
 ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSurface s, vec3 mv, float normHitDist)
 {
     vec2 uv = _NRD_PixelUv(pixel);
@@ -206,7 +247,19 @@ ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSur
     ivec2 size = ivec2(gResourceSize);
     ReblurReprojection r;
     NrdFootprint f = _NRD_Footprint(uvPrev, vec2(size));
-    r.surface = _NRD_Reprojection(uvPrev, size, _NRD_GatherFootprint(prevViewZ, f.origin, size), expectedViewZ, tolerance);
+    vec4 prevZ = _NRD_GatherFootprint(prevViewZ, f.origin, size);
+    r.surface = _NRD_Reprojection(uvPrev, size, prevZ, expectedViewZ, tolerance);
+    vec3 XvPrev = (gWorldToViewPrev * vec4(Xprev, 1.0)).xyz;
+    vec3 NvPrev = normalize(mat3(gWorldToViewPrev) * s.N);
+    float planeTolerance = REBLUR_PLANE_TOLERANCE * gDisocclusionThreshold * abs(expectedViewZ);
+    // 2D motion: the previous position of a moving surface is unknown (only the viewZ test applies).
+    bool isPrevPositionKnown = gMotionVectorScale.w != 0.0 || (gMotionVectorScale.x == 0.0 && gMotionVectorScale.y == 0.0);
+#if !REBLUR_SPECULAR
+    // Diffuse only: the specular history of a rejected tap still holds the same reflection (the
+    // virtual motion decides there), and rejecting it only shortens the history.
+    if (isPrevPositionKnown)
+        _Reblur_PlaneTest(r.surface, prevZ, XvPrev, NvPrev, planeTolerance);
+#endif
     if (gResetHistory != 0u)
         r.surface.weights = vec4(0.0), r.surface.footprintWeight = 0.0, r.surface.isCatmullRomAllowed = false;
     r.virtual_ = r.surface;

@@ -52,14 +52,14 @@ void main()
     // Histories along the surface motion (and, specular, the virtual motion).
     vec4 slow = _Reblur_FetchHistory(gPrev_History, rp.surface);
     vec2 fastLength = _NRD_BilinearHistory(gPrev_Fast, rp.surface).xy;
-    float stabilized = _NRD_BilinearHistory(gPrev_Stabilized, rp.surface).x;
+    float stabilized = _Reblur_FetchHistory(gPrev_Stabilized, rp.surface).x;
     float footprint = rp.surface.footprintWeight;
 #if REBLUR_SPECULAR
     if (rp.virtualAmount > 0.0)
     {
         vec4 slowV = _Reblur_FetchHistory(gPrev_History, rp.virtual_);
         vec2 fastLengthV = _NRD_BilinearHistory(gPrev_Fast, rp.virtual_).xy;
-        float stabilizedV = _NRD_BilinearHistory(gPrev_Stabilized, rp.virtual_).x;
+        float stabilizedV = _Reblur_FetchHistory(gPrev_Stabilized, rp.virtual_).x;
         // How well the virtual history matches: its hit distance should agree with the surface
         // history's on a mirror-like reflection; a mismatch moves the blend back to the surface.
         float a = rp.virtualAmount;
@@ -135,18 +135,22 @@ void main()
             fast = clamp(fast, m1 - 2.0 * sigma, m1 + 4.0 * sigma);
 
             // Anti-lag: the slow history must agree with the fast one within the expected noise of a
-            // mean of n frames (the neighbourhood's deviation as the per-frame scale).
+            // mean of n frames (the neighbourhood's deviation as the per-frame scale). The fast
+            // history before this frame's sample decides: a cut that depends on the sample gives the
+            // low samples of a skewed distribution (most of them) more weight than the high ones.
             float n = min(historyLength, gMaxFastAccumulatedFrameNum);
             float slowLuma = _Reblur_Luma(slow);
-            float fastUpdated = mix(fast, luma, 1.0 / (n + 1.0));
-            float noise = (sigma + 0.05 * max(fastUpdated, slowLuma) + 1e-4) / sqrt(n + 1.0);
-            float excess = abs(slowLuma - fastUpdated) / (gAntilagSigmaScale * noise) - 1.0;
+            float noise = (sigma + 0.05 * max(fast, slowLuma) + 1e-4) / sqrt(n + 1.0);
+#if REBLUR_SPECULAR && !REBLUR_OCCLUSION
+            noise *= REBLUR_SPECULAR_ANTILAG_NOISE_SCALE;
+#endif
+            float excess = abs(slowLuma - fast) / (gAntilagSigmaScale * noise) - 1.0;
             if (excess > 0.0)
             {
                 float keep = 1.0 / (1.0 + excess);
                 historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
                 historyLength = min(historyLength, max(gMaxFastAccumulatedFrameNum, 1.0));
-                slow = _Reblur_WithLuma(slow, mix(fastUpdated, slowLuma, keep));
+                slow = _Reblur_WithLuma(slow, mix(fast, slowLuma, keep));
             }
         }
     }

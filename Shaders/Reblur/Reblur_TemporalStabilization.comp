@@ -72,6 +72,17 @@ void main()
         // outputs were blurred with a wider radius (it falls as 1 / (1 + length)) and would keep
         // their blur in the stabilized luminance.
         float n = min(gStabilizationFrameNum, (historyLength - 1.0) * 0.25) / (1.0 + moved);
+        // Camera motion: the stabilized history is resampled every frame, and each resampling
+        // blurs it a little more; it reaches back fewer frames the faster the view moves (the
+        // camera's part of the motion, from the matrices).
+        vec3 X = (gViewToWorld * vec4(s.Xv, 1.0)).xyz;
+        vec4 clipPrev = gWorldToClipPrev * vec4(X, 1.0);
+        if (clipPrev.w > NRD_EPS)
+        {
+            vec2 uvPrev = (clipPrev.xy / clipPrev.w) * 0.5 + 0.5;
+            float motionPixels = length((uvPrev - _NRD_PixelUv(pixel)) * vec2(gResourceSize));
+            n /= 1.0 + REBLUR_STABILIZATION_MOTION_SCALE * motionPixels;
+        }
         result = mix(luma, clamped, n / (n + 1.0));
     }
     imageStore(gInOut_Stabilized, pixel, vec4(result));
