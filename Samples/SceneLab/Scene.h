@@ -158,6 +158,10 @@ constexpr uint32_t kMaxLights = 8;
 // text), then in GetModelsDirectory() (Mesh.h); errors name the file and the JSON path.
 bool LoadScene(const std::string& pathOrText, Scene& out, std::string& error);
 
+// True when the camera, an object or a light changes over the frames (a track with keyframes):
+// quality bars tell still scenes from moving ones by it.
+bool IsSceneAnimated(const Scene& scene);
+
 // Directory of the built-in scenes (Samples/Scenes of the source tree, or NRDLAB_SCENES_DIR from
 // the environment if set).
 std::string GetBuiltinScenesDirectory();

@@ -717,6 +717,18 @@ std::string GetBuiltinScenesDirectory()
     return env && *env ? std::string(env) : std::string(NRDLAB_SCENES_DIR);
 }
 
+bool IsSceneAnimated(const Scene& scene)
+{
+    bool animated = !scene.camera.position.keys.empty() || !scene.camera.target.keys.empty() ||
+                    !scene.camera.up.keys.empty() || !scene.camera.fovDeg.keys.empty();
+    for (const Object& o : scene.objects)
+        animated = animated || !o.position.keys.empty() || !o.rotation.keys.empty();
+    for (const Light& l : scene.lights)
+        animated = animated || !l.direction.keys.empty() || !l.position.keys.empty() || !l.intensity.keys.empty() ||
+                   !l.enabled.keys.empty();
+    return animated;
+}
+
 std::vector<std::string> GetBuiltinSceneNames()
 {
     std::vector<std::string> names;
