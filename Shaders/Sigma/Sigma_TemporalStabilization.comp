@@ -8,8 +8,9 @@
 // on the same surface (a moving shadow cannot leave a ghost), shortens the history where clamping
 // had to move it (anti-lag) and blends with a per-pixel history length of at most
 // gMaxStabilizedFrameNum frames. Hard shadows (sub-pixel penumbra) keep history only where it needs
-// no resampling. History = this frame's result, stored with its viewZ and history length (viewZ
-// bits with the 5 low bits replaced by the length).
+// no resampling, and restart it where a shadow arrives or leaves. History = this frame's result,
+// stored with its viewZ, history length and whether this frame's sample was lit (viewZ bits with
+// the 5 low bits replaced by the length, bit 5 by the sample).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -21,6 +22,10 @@
 #define BORDER 2
 #define SMEM_SIZE (SIGMA_TILE_SIZE + 2 * BORDER)
 #define HISTORY_LENGTH_MASK 31u
+// Bit 5 of the packed viewZ: the pixel's sample was lit (its value at least 0.5: a hard shadow's
+// blur copies the input).
+#define HISTORY_SAMPLE_BIT 32u
+#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT))
 // Clamping box: mean +- SIGMA_SCALE * sigma. History length lost per unit of clamping displacement:
 // higher values follow moving shadows (moving lights and occluders) sooner at some cost in noise
 // on still ones (measured on the scene lab's static / moving_light / moving_occluder scenes).
@@ -74,19 +79,31 @@ SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
     return _Sigma_Signal01(sum / weightSum);
 }
 
-uint PackViewZAndHistoryLength(float viewZ, float historyLength)
+uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit)
 {
-    return (floatBitsToUint(viewZ) & ~HISTORY_LENGTH_MASK) | min(uint(historyLength + 0.5), HISTORY_LENGTH_MASK);
+    return (floatBitsToUint(viewZ) & HISTORY_VIEWZ_MASK) | min(uint(historyLength + 0.5), HISTORY_LENGTH_MASK) |
+           (isLit ? HISTORY_SAMPLE_BIT : 0u);
+}
+
+// A hard shadow's pixel at 'q' of the previous frame (no resampling) that is lit now after a lit
+// sample there, under dark history: where a shadow edge moved without motion vectors.
+bool IsDeparted(ivec2 q, SIGMA_TYPE currentValue)
+{
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)) || _Sigma_MaxComponent(currentValue) < 0.5)
+        return false;
+    uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
+    return (packed & HISTORY_SAMPLE_BIT) != 0u && _Sigma_MaxComponent(currentValue - LoadHistory(q)) > HARD_SHADOW_ARRIVAL;
 }
 
 // Marks a pixel without history (sky): its viewZ never matches.
 const uint kNoHistory = 0x7F7FFFE0u; // ~3.4e38, length 0
 
-void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength)
+void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current)
 {
     imageStore(gOut_ShadowTranslucency, pixel, vec4(result));
     imageStore(gHistory_Shadow, pixel, vec4(result));
-    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength)));
+    bool isLit = _Sigma_MaxComponent(current) >= 0.5;
+    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit)));
 }
 
 void main()
@@ -103,7 +120,10 @@ void main()
         if (mode == SIGMA_MODE_SKY || _NRD_IsSky(z))
             imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(kNoHistory));
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
-            WriteResult(pixel, LoadBlurred(pixel), z, gMaxStabilizedFrameNum);
+        {
+            SIGMA_TYPE value = LoadBlurred(pixel);
+            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value);
+        }
         return;
     }
 
@@ -212,7 +232,7 @@ void main()
         if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)))
             continue;
         uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
-        float prevViewZ = uintBitsToFloat(packed & ~HISTORY_LENGTH_MASK);
+        float prevViewZ = uintBitsToFloat(packed & HISTORY_VIEWZ_MASK);
         if (!(abs(prevViewZ - expectedViewZ) <= tolerance))
             continue;
         float w = bilinear[k];
@@ -244,11 +264,30 @@ void main()
         // history: brightness left in the dark is the costly error. One that leaves is only lagged.
         if (isHardShadow && _Sigma_MaxComponent(history - current) > HARD_SHADOW_ARRIVAL)
             antilag = 0.0;
+        // One that leaves (lit under dark history) restarts it too where this pixel and a neighbour
+        // are lit for the second frame in a row, both under dark history: a shadow edge that moved
+        // without motion vectors (a turning light, moving stripes). A still penumbra's noise rarely
+        // gives two such pixels side by side. (The history is not resampled here: the previous
+        // frame's pixels are this frame's.)
+        if (isHardShadow && historyWeight > 0.999)
+        {
+            ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
+            if (IsDeparted(q, current))
+            {
+                bool isLine = false;
+                for (int j = -1; j <= 1; j++)
+                    for (int i = -1; i <= 1; i++)
+                        if ((i != 0 || j != 0) && s_ViewZ[c.y + j][c.x + i] != 0.0)
+                            isLine = isLine || IsDeparted(q + ivec2(i, j), s_Signal[c.y + j][c.x + i]);
+                if (isLine)
+                    antilag = 0.0;
+            }
+        }
         historyLength = min(historyLength * antilag, gMaxStabilizedFrameNum);
 
         result = mix(current, clamped, historyLength / (historyLength + 1.0));
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
     }
 
-    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength);
+    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current);
 }
