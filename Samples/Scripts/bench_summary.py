@@ -74,7 +74,7 @@ def main():
     for method, r in first.items():
         z = r["sizes"][k]
         ms = z["gpu_ms"]["median"]
-        target = (f"< {TARGET_MS[method]:g} ({'met' if ms < TARGET_MS[method] else 'missed'}, "
+        target = (f"< {TARGET_MS[method]:.2f} ({'met' if ms < TARGET_MS[method] else 'missed'}, "
                   f"{ms / TARGET_MS[method]:.1f}x)") if method in TARGET_MS else "-"
         nrd = f"{NRD_MS[method]:.2f} ({ms / NRD_MS[method]:.2f}x)" if method in NRD_MS else "-"
         if method == "TILED_SHADOW":
