@@ -29,6 +29,13 @@
 // camera's motion in pixels (each resampling of the stabilized history blurs it a little more).
 #define REBLUR_STABILIZATION_MOTION_SCALE 4.0
 
+// Diffuse anti-lag: radius of the input neighbourhood whose mean is compared with the same mean of
+// the previous history (2: 5x5), and the tolerance in units of that mean's expected noise
+// (relative to gAntilagSigmaScale). Neighbours count where their viewZ is within 4 times
+// gDisocclusionThreshold plus 2 pixels' footprint per pixel of distance (the same surface, any slope).
+#define REBLUR_ANTILAG_RADIUS 2
+#define REBLUR_DIFFUSE_ANTILAG_NOISE_SCALE 0.67
+
 //==================================================================================================
 // Inputs.
 //==================================================================================================
@@ -212,6 +219,8 @@ struct ReblurReprojection
     NrdReprojection surface;
     NrdReprojection virtual_; // Specular only; equals 'surface' otherwise.
     float virtualAmount;      // Blend of the virtual history, [0, 1].
+    float expectedViewZ;      // Previous viewZ of the surface point, and the viewZ tolerance of its taps.
+    float tolerance;
 };
 
 // Drops the footprint taps whose previous surface point lies off the plane of the reprojected
@@ -246,6 +255,8 @@ ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSur
     float tolerance = _NRD_DisocclusionTolerance(s.viewZ, expectedViewZ, NoV, gDisocclusionThreshold, gProjectY);
     ivec2 size = ivec2(gResourceSize);
     ReblurReprojection r;
+    r.expectedViewZ = expectedViewZ;
+    r.tolerance = tolerance;
     NrdFootprint f = _NRD_Footprint(uvPrev, vec2(size));
     vec4 prevZ = _NRD_GatherFootprint(prevViewZ, f.origin, size);
     r.surface = _NRD_Reprojection(uvPrev, size, prevZ, expectedViewZ, tolerance);

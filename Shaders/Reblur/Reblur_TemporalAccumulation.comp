@@ -83,9 +83,10 @@ void main()
     historyLength *= min(footprint * 1.25, 1.0);
     historyLength = footprint > 0.01 ? (hasConfidence ? historyLength : floor(historyLength + 0.5)) : 0.0;
 
+    float confidence = 1.0;
     if (hasConfidence)
     {
-        float confidence = clamp(_NRD_Sanitize(texelFetch(sampler2D(gIn_Confidence, gNearestClamp), pixel, 0).x, 1.0), 0.0, 1.0);
+        confidence = clamp(_NRD_Sanitize(texelFetch(sampler2D(gIn_Confidence, gNearestClamp), pixel, 0).x, 1.0), 0.0, 1.0);
         historyLength *= confidence;
     }
 
@@ -93,24 +94,19 @@ void main()
     float maxLength = isReference ? NRD_HISTORY_LENGTH_MAX : max(gMaxAccumulatedFrameNum, 1.0);
     float luma = _Reblur_Luma(current);
 
-    if (historyLength == 0.0)
+#if REBLUR_SPECULAR
+    const int R = 1;
+#else
+    const int R = REBLUR_ANTILAG_RADIUS;
+#endif
+    // Neighbourhood of this frame's input (traced, finite samples; diffuse: on the same surface).
+    float m1 = 0.0, m2 = 0.0, count = 0.0;
     {
-        slow = current;
-        fast = luma;
-        stabilized = luma;
-    }
-    else if (!isReference)
-    {
-        // The fast history follows "now": it is clamped to the 3x3 input neighbourhood (mean - 2
-        // sigma, mean + 4 sigma), so a lighting change or a burst of bad values leaves it within a
-        // few frames. The box is wider above: single samples are skewed (rare bright ones), and a
-        // symmetric box cut the fast history's bright tail, so that the anti-lag pulled the slow
-        // history below the mean (specular on static: -4.1% with +2 sigma, -2.3% with +4).
-        float m1 = 0.0, m2 = 0.0, count = 0.0;
         ivec2 maxPixel = ivec2(gResourceSize) - 1;
-        for (int j = -1; j <= 1; j++)
+        float zTolerance = gDisocclusionThreshold * 4.0 * viewZ + 2.0 * viewZ / max(gProjectY, NRD_EPS) * float(R);
+        for (int j = -R; j <= R; j++)
         {
-            for (int i = -1; i <= 1; i++)
+            for (int i = -R; i <= R; i++)
             {
                 ivec2 q = clamp(pixel + ivec2(i, j), ivec2(0), maxPixel);
                 // Non-finite samples carry no information (and must not pull the fast history).
@@ -120,38 +116,100 @@ void main()
 #endif
                 if (!_Reblur_IsTraced(q) || !_NRD_IsFinite(sq))
                     continue;
+#if !REBLUR_SPECULAR
+                float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+                if (!(abs(zq - viewZ) <= zTolerance))
+                    continue;
+#endif
                 float l = _Reblur_Luma(_Reblur_Sanitize(sq));
                 m1 += l;
                 m2 += l * l;
                 count += 1.0;
             }
         }
-        // Without a finite sample around (a frame of NaN input) the fast history and the
-        // anti-lag wait for the next frame.
-        if (count > 0.0)
-        {
-            m1 /= max(count, 1.0);
-            float sigma = sqrt(max(m2 / max(count, 1.0) - m1 * m1, 0.0));
-            fast = clamp(fast, m1 - 2.0 * sigma, m1 + 4.0 * sigma);
-
-            // Anti-lag: the slow history must agree with the fast one within the expected noise of a
-            // mean of n frames (the neighbourhood's deviation as the per-frame scale). The fast
-            // history before this frame's sample decides: a cut that depends on the sample gives the
-            // low samples of a skewed distribution (most of them) more weight than the high ones.
-            float n = min(historyLength, gMaxFastAccumulatedFrameNum);
-            float slowLuma = _Reblur_Luma(slow);
-            float noise = (sigma + 0.05 * max(fast, slowLuma) + 1e-4) / sqrt(n + 1.0);
-#if REBLUR_SPECULAR && !REBLUR_OCCLUSION
-            noise *= REBLUR_SPECULAR_ANTILAG_NOISE_SCALE;
+        m1 /= max(count, 1.0);
+    }
+    float sigma = sqrt(max(m2 / max(count, 1.0) - m1 * m1, 0.0));
+#if REBLUR_SPECULAR
+    float fastSample = luma;
+#else
+    // Diffuse: the anti-lag compares this frame's 5x5 input mean with the same mean of the
+    // previous slow history (25 samples: a 20% lighting change stands out of 1-sample noise within
+    // a frame, where a per-pixel fast history of single samples could not tell it from noise
+    // before the slow history had mostly followed anyway: light_switch, moving_light). The fast
+    // channel holds that mean.
+    float fastSample = count > 0.0 ? m1 : luma;
 #endif
-            float excess = abs(slowLuma - fast) / (gAntilagSigmaScale * noise) - 1.0;
-            if (excess > 0.0)
+
+    if (historyLength == 0.0)
+    {
+        slow = current;
+        fast = fastSample;
+        stabilized = luma;
+    }
+    else if (!isReference && count > 0.0)
+    {
+        // Without a finite sample around (a frame of NaN input) the fast history and the anti-lag
+        // wait for the next frame.
+        float slowLuma = _Reblur_Luma(slow);
+#if REBLUR_SPECULAR
+        // The fast history follows "now": it is clamped to the 3x3 input neighbourhood (mean - 2
+        // sigma, mean + 4 sigma), so a lighting change or a burst of bad values leaves it within a
+        // few frames. The box is wider above: single samples are skewed (rare bright ones), and a
+        // symmetric box cut the fast history's bright tail, so that the anti-lag pulled the slow
+        // history below the mean.
+        fast = clamp(fast, m1 - 2.0 * sigma, m1 + 4.0 * sigma);
+        // Anti-lag: the slow history must agree with the fast one within the expected noise of a
+        // mean of n frames (the neighbourhood's deviation as the per-frame scale, widened for
+        // heavy-tailed specular). The fast history before this frame's sample decides: a cut that
+        // depends on the sample gives the low samples of a skewed distribution (most of them) more
+        // weight than the high ones.
+        float n = min(historyLength, gMaxFastAccumulatedFrameNum);
+        float reference = slowLuma;
+        float fastNow = fast;
+        float noise = (sigma + 0.05 * max(fast, slowLuma) + 1e-4) / sqrt(n + 1.0) * REBLUR_SPECULAR_ANTILAG_NOISE_SCALE;
+#else
+        // The same mean of the previous slow history around the reprojected position (the box of
+        // each bilinear tap, weighted bilinearly), over the taps on the same surface.
+        float reference = 0.0, referenceWeight = 0.0;
+        ivec2 size = ivec2(gResourceSize);
+        vec2 f = rp.surface.footprint.f;
+        float zTolerance = gDisocclusionThreshold * 4.0 * rp.expectedViewZ + 2.0 * rp.expectedViewZ / max(gProjectY, NRD_EPS) * float(R);
+        for (int j = -R; j <= R + 1; j++)
+        {
+            for (int i = -R; i <= R + 1; i++)
             {
-                float keep = 1.0 / (1.0 + excess);
-                historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
-                historyLength = min(historyLength, max(gMaxFastAccumulatedFrameNum, 1.0));
-                slow = _Reblur_WithLuma(slow, mix(fast, slowLuma, keep));
+                ivec2 q = rp.surface.footprint.origin + ivec2(i, j);
+                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size)))
+                    continue;
+                float z = texelFetch(sampler2D(gPrev_ViewZ, gNearestClamp), q, 0).x;
+                if (!(abs(z - rp.expectedViewZ) <= zTolerance))
+                    continue;
+                float w = (i == -R ? 1.0 - f.x : (i == R + 1 ? f.x : 1.0)) * (j == -R ? 1.0 - f.y : (j == R + 1 ? f.y : 1.0));
+                reference += _Reblur_Luma(_Reblur_Sanitize(texelFetch(sampler2D(gPrev_History, gNearestClamp), q, 0))) * w;
+                referenceWeight += w;
             }
+        }
+        reference = referenceWeight > 0.0 ? reference / referenceWeight : slowLuma;
+        // Expected noise of a mean of 'count' samples (this frame's pixel is one of them: its weight
+        // in the decision is small).
+        float fastNow = m1;
+        float noise = (sigma / sqrt(count) + 0.005 * max(m1, reference) + 1e-4) * REBLUR_DIFFUSE_ANTILAG_NOISE_SCALE * max(confidence, 0.05);
+#endif
+        float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise) - 1.0;
+        if (excess > 0.0)
+        {
+            float keep = 1.0 / (1.0 + excess);
+            historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
+            historyLength = min(historyLength, max(gMaxFastAccumulatedFrameNum, 1.0));
+#if REBLUR_SPECULAR
+            slow = _Reblur_WithLuma(slow, mix(fastNow, slowLuma, keep));
+#else
+            // The neighbourhood's change applies to the pixel's own history as a ratio (lighting
+            // scales the radiance; the pixel keeps its detail).
+            float target = reference > 1e-4 ? slowLuma * fastNow / reference : slowLuma + fastNow - reference;
+            slow = _Reblur_WithLuma(slow, max(mix(target, slowLuma, keep * keep), 0.0));
+#endif
         }
     }
 
@@ -161,7 +219,11 @@ void main()
     if (isSampled)
     {
         slow = mix(slow, current, 1.0 / newLength);
-        fast = mix(fast, luma, 1.0 / max(min(newLength, gMaxFastAccumulatedFrameNum + 1.0), 1.0));
+#if REBLUR_SPECULAR
+        fast = mix(fast, fastSample, 1.0 / max(min(newLength, gMaxFastAccumulatedFrameNum + 1.0), 1.0));
+#else
+        fast = fastSample;
+#endif
     }
 
     vec4 aux = vec4(fast, newLength, stabilized, 0.0);
