@@ -382,8 +382,11 @@ struct RelaxSettings
     // reach is this much on either side).
     float historyFixStride = 14.0f;
 
-    // Slow history clamped to the fast history's 3x3 mean +- this many standard deviations, [0.5, 4].
-    float historyClampingColorBoxSigmaScale = 2.0f;
+    // Slow history clamped to the fast history's 3x3 mean +- this many standard deviations, [0.5, 4]
+    // (diffuse: the spread of the fast history; specular: the slow history's own spread and the fast
+    // history's expected noise, see Shaders/Relax/README.md).
+    float diffuseHistoryClampingColorBoxSigmaScale = 1.5f;
+    float specularHistoryClampingColorBoxSigmaScale = 2.0f;
 
     // Anti-lag beyond the clamps: a 5x5 mean of this frame's input this many standard deviations
     // (of the difference of the means, plus 1% of the mean) from the same taps of the previous fast

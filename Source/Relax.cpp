@@ -96,7 +96,8 @@ Result ValidateRelaxSettings(const RelaxSettings& s, const Logger& log)
     };
     const FloatCheck floats[] = {
         {"historyFixStride", s.historyFixStride, 1.0f, 32.0f, false},
-        {"historyClampingColorBoxSigmaScale", s.historyClampingColorBoxSigmaScale, 0.5f, 4.0f, false},
+        {"diffuseHistoryClampingColorBoxSigmaScale", s.diffuseHistoryClampingColorBoxSigmaScale, 0.5f, 4.0f, false},
+        {"specularHistoryClampingColorBoxSigmaScale", s.specularHistoryClampingColorBoxSigmaScale, 0.5f, 4.0f, false},
         {"antilagSigmaScale", s.antilagSigmaScale, 0.0f, 16.0f, false},
         {"diffusePhiLuminance", s.diffusePhiLuminance, 0.0f, 16.0f, true},
         {"specularPhiLuminance", s.specularPhiLuminance, 0.0f, 16.0f, true},
@@ -271,7 +272,6 @@ public:
         c.gHitDistParams = {hd.A, hd.B, hd.C, hd.D};
         c.gHistoryFixFrameNum = float(s.historyFixFrameNum);
         c.gHistoryFixStride = s.historyFixStride;
-        c.gHistoryClampSigma = s.historyClampingColorBoxSigmaScale;
         c.gAntilagSigma = s.antilagSigmaScale;
         c.gRoughnessFraction = s.roughnessFraction;
         c.gDepthThreshold = s.depthThreshold;
@@ -290,6 +290,7 @@ public:
                 c.gMaxAccumulatedFrameNum = float(s.specularMaxAccumulatedFrameNum);
                 c.gMaxFastAccumulatedFrameNum = float(s.specularMaxFastAccumulatedFrameNum);
                 c.gPhiLuminance = s.specularPhiLuminance;
+                c.gHistoryClampSigma = s.specularHistoryClampingColorBoxSigmaScale;
                 c.gLobeAngleFraction = s.specularLobeAngleFraction;
                 c.gLobeAngleSlack = s.specularLobeAngleSlack * kDegToRad;
             }
@@ -297,6 +298,7 @@ public:
             {
                 c.gMaxAccumulatedFrameNum = float(s.diffuseMaxAccumulatedFrameNum);
                 c.gMaxFastAccumulatedFrameNum = float(s.diffuseMaxFastAccumulatedFrameNum);
+                c.gHistoryClampSigma = s.diffuseHistoryClampingColorBoxSigmaScale;
                 c.gPhiLuminance = s.diffusePhiLuminance;
                 c.gLobeAngleFraction = s.diffuseLobeAngleFraction;
                 c.gLobeAngleSlack = 0.0f;

@@ -34,7 +34,7 @@ struct Tap
 #define BORDER 2
 #define REGION (RELAX_TILE_SIZE + 2 * BORDER)
 shared vec4 sRadianceVariance[REGION * REGION];
-shared vec4 sNormalZ[REGION * REGION];   // View-space normal, viewZ (0: sky or outside).
+shared vec4 sNormalZ[REGION * REGION];   // World-space normal, viewZ (0: sky or outside).
 shared float sRoughness[REGION * REGION];
 
 void Preload()
@@ -43,8 +43,8 @@ void Preload()
     for (uint i = gl_LocalInvocationIndex; i < REGION * REGION; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
     {
         ivec2 p = base + ivec2(i % REGION, i / REGION);
-        RelaxSurface s = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, p);
-        sNormalZ[i] = vec4(s.N, s.z);
+        RelaxSurface s = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
+        sNormalZ[i] = vec4(s.Nw, s.z);
         sRoughness[i] = s.roughness;
         sRadianceVariance[i] = s.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
     }
@@ -59,6 +59,7 @@ Tap LoadTap(ivec2 p)
     {
         // Outside the preloaded region (cannot happen with step 1 and taps within BORDER): no tap.
         t.surface.N = vec3(0.0, 0.0, 1.0);
+        t.surface.Nw = vec3(0.0, 0.0, 1.0);
         t.surface.z = 0.0;
         t.surface.X = vec3(0.0);
         t.surface.roughness = 1.0;
@@ -67,7 +68,8 @@ Tap LoadTap(ivec2 p)
     }
     int i = local.y * REGION + local.x;
     vec4 nz = sNormalZ[i];
-    t.surface.N = nz.xyz;
+    t.surface.N = vec3(0.0, 0.0, 1.0);
+    t.surface.Nw = nz.xyz;
     t.surface.z = nz.w;
     t.surface.X = nz.w == 0.0 ? vec3(0.0) : _NRD_ViewPosition(_NRD_PixelUv(p), nz.w);
     t.surface.roughness = sRoughness[i];
@@ -88,7 +90,7 @@ vec2 LoadDepthVariance(ivec2 p)
 Tap LoadTap(ivec2 p)
 {
     Tap t;
-    t.surface = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, p);
+    t.surface = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
     t.radianceVariance = t.surface.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
     return t;
 }
@@ -116,6 +118,7 @@ void main()
     Tap c = LoadTap(pixel);
     if (c.surface.z == 0.0)
         return;
+    c.surface.N = Relax_ViewNormal(c.surface.Nw); // The tangent plane's normal.
     bool isLast = (gFlags & RELAX_FLAG_LAST_ATROUS) != 0u;
 
     // Variance prefiltered with a 3x3 Gaussian (1/4, 1/8, 1/16) of the neighbours on a surface.
@@ -161,7 +164,7 @@ void main()
                 t = LoadTap(q);
                 if (t.surface.z == 0.0)
                     continue;
-                w = Relax_NormalWeight(c.surface.N, t.surface.N, maxAngle);
+                w = Relax_NormalWeight(c.surface.Nw, t.surface.Nw, maxAngle);
                 w *= Relax_PlaneWeight(c.surface, t.surface.X, gDepthThreshold);
 #if RELAX_SPECULAR
                 if ((gFlags & RELAX_FLAG_ROUGHNESS_STOP) != 0u)

@@ -25,21 +25,26 @@ vec4 Relax_SanitizeSignal(vec4 s)
 // a frame of broken input unchanged.
 bool Relax_IsSample(vec4 s) { return _NRD_IsFinite(vec4(s.rgb, 0.0)); }
 
-// Surface of a pixel as the stoppers need it: view-space position and normal, linear roughness.
+// Surface of a pixel as the stoppers need it: view-space position and normal, world-space normal,
+// linear roughness. Normal tests between two pixels are dot products of the world-space normals
+// (no rotation per tap); the tangent-plane distance takes the centre's view-space normal.
 struct RelaxSurface
 {
     vec3 X;      // View-space position.
-    vec3 N;      // View-space normal.
+    vec3 N;      // View-space normal (Relax_LoadSurface only).
+    vec3 Nw;     // World-space normal.
     float z;     // viewZ (0: sky or outside the image).
     float roughness;
 };
 
-RelaxSurface Relax_LoadSurface(texture2D normalRoughness, texture2D viewZ, ivec2 p)
+// A neighbour's surface: everything but the view-space normal (left (0, 0, 1)).
+RelaxSurface Relax_LoadNeighbour(texture2D normalRoughness, texture2D viewZ, ivec2 p)
 {
     RelaxSurface s;
     s.z = 0.0;
     s.X = vec3(0.0);
     s.N = vec3(0.0, 0.0, 1.0);
+    s.Nw = vec3(0.0, 0.0, 1.0);
     s.roughness = 1.0;
     if (!Relax_IsInImage(p))
         return s;
@@ -49,9 +54,19 @@ RelaxSurface Relax_LoadSurface(texture2D normalRoughness, texture2D viewZ, ivec2
     vec4 nr = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(normalRoughness, p, 0));
     s.z = z;
     s.X = _NRD_ViewPosition(_NRD_PixelUv(p), z);
-    // World -> view: the transpose of viewToWorld's rotation (rigid camera).
-    s.N = normalize(transpose(mat3(gViewToWorld)) * nr.xyz);
+    s.Nw = nr.xyz;
     s.roughness = nr.w;
+    return s;
+}
+
+// World -> view: the transpose of viewToWorld's rotation (rigid camera).
+vec3 Relax_ViewNormal(vec3 Nw) { return normalize(transpose(mat3(gViewToWorld)) * Nw); }
+
+RelaxSurface Relax_LoadSurface(texture2D normalRoughness, texture2D viewZ, ivec2 p)
+{
+    RelaxSurface s = Relax_LoadNeighbour(normalRoughness, viewZ, p);
+    if (s.z != 0.0)
+        s.N = Relax_ViewNormal(s.Nw);
     return s;
 }
 

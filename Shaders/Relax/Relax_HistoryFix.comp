@@ -54,11 +54,11 @@ void main()
             for (int i = -2; i <= 2; i++)
             {
                 ivec2 q = pixel + ivec2(round(vec2(i, j) * stride));
-                RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
+                RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
                 if (n.z == 0.0)
                     continue;
                 float w = Relax_PlaneWeight(s, n.X, 0.02 * stride);
-                float c = max(dot(s.N, n.N), 0.0);
+                float c = max(dot(s.Nw, n.Nw), 0.0);
                 c *= c;
                 c *= c;
                 w *= c * c;
@@ -89,8 +89,8 @@ void main()
             for (int i = -1; i <= 1; i++)
             {
                 ivec2 q = pixel + ivec2(i, j);
-                RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
-                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.N, n.N) < 0.8)
+                RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.Nw, n.Nw) < 0.8)
                     continue;
                 vec4 f = texelFetch(gIn_Fast, q, 0);
                 vec3 sl = texelFetch(gIn_Slow, q, 0).rgb;

@@ -35,10 +35,10 @@ void main()
             for (int i = -3; i <= 3; i++)
             {
                 ivec2 q = pixel + ivec2(i, j);
-                RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
+                RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
                 if (n.z == 0.0)
                     continue;
-                float w = Relax_PlaneWeight(s, n.X, 0.05) * max(dot(s.N, n.N), 0.0);
+                float w = Relax_PlaneWeight(s, n.X, 0.05) * max(dot(s.Nw, n.Nw), 0.0);
                 if (w <= 0.0)
                     continue;
                 float f = texelFetch(gIn_Fast, q, 0).w;

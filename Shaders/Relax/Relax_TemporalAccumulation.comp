@@ -104,7 +104,7 @@ void main()
         [[unroll]] for (int i = 0; i < 4; i++)
         {
             ivec2 q = pixel + kCross[i];
-            RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
+            RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
             vec4 raw = n.z == 0.0 ? vec4(0.0) : texelFetch(gIn_Signal, q, 0);
             float w = n.z == 0.0 || !Relax_IsSample(raw) ? 0.0 : Relax_PlaneWeight(s, n.X, 0.05);
             signal += w * (w > 0.0 ? Relax_SanitizeSignal(raw) : vec4(0.0));
@@ -164,8 +164,8 @@ void main()
                 ivec2 q = pixel + ivec2(i, j);
                 if (!IsTraced(q))
                     continue;
-                RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
-                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.N, n.N) < 0.8)
+                RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.Nw, n.Nw) < 0.8)
                     continue;
                 vec4 raw = texelFetch(gIn_Signal, q, 0);
                 if (!Relax_IsSample(raw))
@@ -225,9 +225,9 @@ void main()
                 if (!Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q))
                     continue;
                 // Same surface now (as the fast history's clamping box) and before (viewZ).
-                RelaxSurface n = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, q);
+                RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
                 float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
-                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.N, n.N) < 0.8 || !(zPrev > 0.0) ||
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.Nw, n.Nw) < 0.8 || !(zPrev > 0.0) ||
                     abs(zPrev - zExpected) > 0.05 * zExpected)
                     continue;
                 vec4 raw = texelFetch(gIn_Signal, q, 0);

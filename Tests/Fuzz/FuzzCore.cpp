@@ -296,7 +296,7 @@ nrd::RelaxSettings DecodeRelax(FuzzedDataProvider& in)
         case 1: s.specularMaxFastAccumulatedFrameNum = InterestingUint(in); break;
         case 2: s.historyFixFrameNum = InterestingUint(in); break;
         case 3: s.historyFixStride = InterestingFloat(in); break;
-        case 4: s.historyClampingColorBoxSigmaScale = InterestingFloat(in); break;
+        case 4: (in.ConsumeBool() ? s.diffuseHistoryClampingColorBoxSigmaScale : s.specularHistoryClampingColorBoxSigmaScale) = InterestingFloat(in); break;
         case 5: s.antilagSigmaScale = InterestingFloat(in); break;
         case 6: s.atrousIterationNum = InterestingUint(in); break;
         case 7: s.diffusePhiLuminance = InterestingFloat(in); break;

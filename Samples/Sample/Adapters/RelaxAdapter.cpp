@@ -44,7 +44,8 @@ public:
         ReadSetting(j, "specularMaxFastAccumulatedFrameNum", s.specularMaxFastAccumulatedFrameNum);
         ReadSetting(j, "historyFixFrameNum", s.historyFixFrameNum);
         ReadSetting(j, "historyFixStride", s.historyFixStride);
-        ReadSetting(j, "historyClampingColorBoxSigmaScale", s.historyClampingColorBoxSigmaScale);
+        ReadSetting(j, "diffuseHistoryClampingColorBoxSigmaScale", s.diffuseHistoryClampingColorBoxSigmaScale);
+        ReadSetting(j, "specularHistoryClampingColorBoxSigmaScale", s.specularHistoryClampingColorBoxSigmaScale);
         ReadSetting(j, "antilagSigmaScale", s.antilagSigmaScale);
         ReadSetting(j, "spatialVarianceEstimationHistoryThreshold", s.spatialVarianceEstimationHistoryThreshold);
         ReadSetting(j, "atrousIterationNum", s.atrousIterationNum);
