@@ -53,8 +53,6 @@
 // A 9x9 window whose adjacent pixels change value at least this often relative to binary noise of
 // its mean is a penumbra (see ChangesRelativeToNoise).
 #define TS_STRUCTURE 0.6
-// History below this counts as dark, above 1 minus this as bright, for a shadow edge that moved (isDeparted).
-#define TS_DEPARTURE_DARK 0.25
 // History farther than this from the value of a uniform 5x5 window of bits is dropped.
 #define TS_NEAR_CONTRADICTION 0.25
 // A footprint holding a texel whose temporal mean is within this of 0 and one within this of 1
@@ -397,8 +395,6 @@ void main()
         float resampling = 0.0; // Blur of the resampling: 0 at texel centres, 0.5 halfway on both axes.
         uint previousBits = 0u;  // Raw samples of the 4x4 footprint (bit 4 k.y + k.x), valid texels only.
         uint footprintBits = 0u; // Texels of the 4x4 footprint that hold this surface.
-        uint darkBits = 0u;      // Texels of the 4x4 footprint whose history is dark,
-        uint brightBits = 0u;    // bright.
         ivec2 nearestK = ivec2(1);
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
@@ -449,8 +445,6 @@ void main()
                     ivec2 k = blockOrigin + offsets[i] - origin + 1;
                     bool isInner = k.x >= 1 && k.x <= 2 && k.y >= 1 && k.y <= 2;
                     vec3 value = _TS_UnpackHistory(histories[i]);
-                    darkBits |= value.x < TS_DEPARTURE_DARK ? 1u << uint(4 * k.y + k.x) : 0u;
-                    brightBits |= value.x > 1.0 - TS_DEPARTURE_DARK ? 1u << uint(4 * k.y + k.x) : 0u;
                     cubic += wx[k.x] * wy[k.y] * value.xy;
                     if (isInner && (validBits & (1u << uint(4 * k.y + k.x))) != 0u)
                     {
@@ -611,36 +605,6 @@ void main()
         bool isDeterministic = !isDisoccluded && ((isMoving && abs(history.x - sample0) > 0.5) || (!isMoving && clampAmount > 0.0)) &&
                                isCentreUnchanged &&
                                expectedFlips >= TS_DETERMINISTIC_EVIDENCE && flips <= TS_DETERMINISTIC * expectedFlips;
-        // A shadow edge that moved, in a still view: this pixel and a neighbour sampled the same for
-        // the second frame in a row, on the far side of their histories (lit where the history is
-        // dark: a shadow left; shadowed where it is bright: one arrived), as a shadow edge moving
-        // without motion vectors leaves them (a turning light, moving stripes). A still penumbra's
-        // noise rarely does that to two adjacent pixels. The history restarts from the sample.
-        bool isDeparted = false;
-        if (!isMoving && !isDisoccluded)
-        {
-            uint departed = sample0 != 0.0 ? footprintBits & darkBits & previousBits : footprintBits & brightBits & ~previousBits;
-            uint centreBit = uint(4 * nearestK.y + nearestK.x);
-            if (((departed >> centreBit) & 1u) != 0u)
-            {
-                for (int t = 0; t < 9; t++)
-                {
-                    ivec2 d = ivec2(t % 3, t / 3) - 1;
-                    ivec2 k = nearestK + d;
-                    if (d == ivec2(0) || any(greaterThan(uvec2(k), uvec2(3))))
-                        continue;
-                    uint nearBit = uint(d.x + 2 + 5 * (d.y + 2));
-                    uint current = sample0 != 0.0 ? near : ~near;
-                    isDeparted = isDeparted || (((departed >> uint(4 * k.y + k.x)) & (current >> nearBit) & (nearInImage >> nearBit) & 1u) != 0u);
-                }
-            }
-        }
-        if (isDeparted)
-        {
-            result = sample0;
-            temporalMean = sample0;
-            samples = 1.0;
-        }
         if (isDeterministic)
         {
             result = sample0;
@@ -648,26 +612,22 @@ void main()
         }
 
         // Under sub-pixel motion a shadowed sample is output as it is, unfiltered, unless it looks
-        // like penumbra noise: the changes across its 9x9 window (the history keeps 'result').
-        // Outside a penumbra the sample is exact, while a history resampled every frame cannot hold
-        // a sharp or thin shadow still; there a light leak into the umbra would be the largest
-        // error in relative terms. (The 3x3 test is not asked here: 3 or 4 shadowed neighbours
-        // without a line through the centre are as common in shadow detail at pixel scale, a
-        // corner or a ragged edge, as in penumbra noise. Without it under motion the relMSE ratio
-        // input / output at 64x64 went 0.60 -> 0.91 on camera_rotation, 0.38 -> 0.46 on fast_orbit.)
+        // like penumbra noise: its 3x3 bits, or the changes across its 9x9 window (the history keeps
+        // 'result'). Outside a penumbra the sample is exact, while a history resampled every frame
+        // cannot hold a sharp or thin shadow still; there a light leak into the umbra would be the
+        // largest error in relative terms.
         // The same holds where the history is short (a disocclusion, a restart, a shadow that just
         // arrived): it cannot yet tell a penumbra from a sharp shadow, and the boosted filter would
         // spread the light around into a thin umbra (the common case at low resolutions, where
-        // penumbrae are under a pixel wide and a 1-spp shadowed sample is exact). In a still view
-        // the 3x3 test also applies.
-        bool isSharpShadow = sample0 == 0.0 && (isMoving || (samples < TS_SPATIAL_BOOST_SAMPLES && !IsNoisyPattern(near)));
+        // penumbrae are under a pixel wide and a 1-spp shadowed sample is exact).
+        bool isSharpShadow = sample0 == 0.0 && (isMoving || samples < TS_SPATIAL_BOOST_SAMPLES) && !IsNoisyPattern(near);
         if (isSharpShadow)
         {
             if (structure < 0.0)
                 structure = ChangesRelativeToNoise(local, groupOrigin, isInterior);
             isSharpShadow = structure < TS_STRUCTURE;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isDeparted)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
