@@ -339,6 +339,18 @@ int main(int argc, char** argv)
     // locks, and the frame cache, whose files are written whole and renamed), so on a GPU the lab's
     // renders, the readbacks and the CPU metrics of several runs overlap. The timing runs follow,
     // one at a time on the main context, with nothing else on the device.
+    // What the error runs and the timing runs of a setting share.
+    auto baseOptions = [&](const nrdbench::SettingResult& r, nrd::lab::VulkanContext* ctx) {
+        nrdlab::RunOptions o;
+        o.scene = scene;
+        o.method = r.method;
+        o.frames = frames;
+        o.truthSpp = truthSpp;
+        o.device = device;
+        o.context = ctx;
+        o.keepImages = false;
+        return o;
+    };
     if (measureError)
     {
         std::atomic<size_t> next{0};
@@ -367,14 +379,7 @@ int main(int argc, char** argv)
             for (size_t k; !failed && (k = next++) < report.results.size() && !pastDeadline();)
             {
                 nrdbench::SettingResult& r = report.results[k];
-                nrdlab::RunOptions o;
-                o.scene = scene;
-                o.method = r.method;
-                o.frames = frames;
-                o.truthSpp = truthSpp;
-                o.device = device;
-                o.context = ctx;
-                o.keepImages = false;
+                nrdlab::RunOptions o = baseOptions(r, ctx);
                 o.settingsJson = r.settingsJson;
                 o.width = errorWidth;
                 o.height = errorHeight;
@@ -434,14 +439,7 @@ int main(int argc, char** argv)
     for (size_t k = 0; k < report.results.size() && !pastDeadline(); k++)
     {
         nrdbench::SettingResult& r = report.results[k];
-        nrdlab::RunOptions base;
-        base.scene = scene;
-        base.method = r.method;
-        base.frames = frames;
-        base.truthSpp = truthSpp;
-        base.device = device;
-        base.context = &context;
-        base.keepImages = false;
+        const nrdlab::RunOptions base = baseOptions(r, &context);
         std::string error;
 
         // The last setting of a method times them all.
