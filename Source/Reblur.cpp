@@ -15,7 +15,8 @@
 //   7. Temporal stabilization  luminance history clamped to the neighbourhood, anti-lag; output.
 //
 // Memory (bytes per pixel): permanent, per signal, history RGBA16F 8 + fast history and length
-// RG16F 4 + stabilized luminance R16F 2, and viewZ R16F 2 x 2 (ping-pong); transient, shared by the
+// RG16F 4 + stabilized luminance R16F 2 + confidence debt R8 1, and viewZ R16F 2 x 2 (ping-pong);
+// transient, shared by the
 // signals, RGBA16F 8 and the 1/16 x 1/16 tile map. The application's output texture carries the
 // temporal pass's auxiliary values (fast history, length, reprojected stabilized luminance) to the
 // history fix before the final result is written into it.
@@ -317,10 +318,12 @@ private:
         const ResourceRef history = builder.AddPermanentTexture(Format::RGBA16_SFLOAT);
         const ResourceRef fast = builder.AddPermanentTexture(Format::RG16_SFLOAT);
         const ResourceRef stabilized = builder.AddPermanentTexture(Format::R16_SFLOAT);
+        // Confidence debt: the frames of history the confidence input took (keeps the history fix off).
+        const ResourceRef debt = builder.AddPermanentTexture(Format::R8_UNORM);
 
         Chain& chain = m_Chains[m_ChainsNum++];
         chain.isSpecular = isSpecular;
-        chain.prePass = builder.AddDispatch<BL>(Name(isSpecular, 0), {normal, viewZ, m_Tiles, fast, in, m_Signal});
+        chain.prePass = builder.AddDispatch<BL>(Name(isSpecular, 0), {normal, viewZ, m_Tiles, fast, in, m_Signal, debt});
         for (int parity = 0; parity < 2; parity++)
         {
             // Frame parity p reads the viewZ stored by the other parity's classification.
@@ -332,24 +335,24 @@ private:
                 if constexpr (V::kIsOcclusion)
                     chain.temporal[parity][withConfidence] = builder.AddDispatch<TA>(
                         Name(isSpecular, 1),
-                        {normal, viewZ, mv, in, conf, m_Tiles, prevViewZ, history, fast, stabilized, m_Signal});
+                        {normal, viewZ, mv, in, conf, m_Tiles, prevViewZ, history, fast, stabilized, m_Signal, debt});
                 else
                     chain.temporal[parity][withConfidence] = builder.AddDispatch<TA>(
                         Name(isSpecular, 1),
-                        {normal, viewZ, mv, in, conf, m_Tiles, prevViewZ, history, fast, stabilized, m_Signal, out});
+                        {normal, viewZ, mv, in, conf, m_Tiles, prevViewZ, history, fast, stabilized, m_Signal, out, debt});
             }
         }
         if constexpr (V::kIsOcclusion)
             chain.historyFix = builder.AddDispatch<HF>(Name(isSpecular, 2),
-                                                       {normal, viewZ, m_Tiles, m_Signal, history, fast, stabilized});
+                                                       {normal, viewZ, m_Tiles, m_Signal, history, fast, stabilized, debt});
         else
             chain.historyFix = builder.AddDispatch<HF>(
-                Name(isSpecular, 2), {normal, viewZ, m_Tiles, m_Signal, out, history, fast, stabilized});
+                Name(isSpecular, 2), {normal, viewZ, m_Tiles, m_Signal, out, history, fast, stabilized, debt});
         // The history keeps the temporally accumulated signal: the blurs go through the output
         // texture and the transient one, so that no frame's spatial filtering is carried into the
         // next frames (a recurrent blur widens the effective kernel with every frame).
-        chain.blur = builder.AddDispatch<BL>(Name(isSpecular, 3), {normal, viewZ, m_Tiles, fast, history, out});
-        chain.postBlur = builder.AddDispatch<BL>(Name(isSpecular, 4), {normal, viewZ, m_Tiles, fast, out, m_Signal});
+        chain.blur = builder.AddDispatch<BL>(Name(isSpecular, 3), {normal, viewZ, m_Tiles, fast, history, out, debt});
+        chain.postBlur = builder.AddDispatch<BL>(Name(isSpecular, 4), {normal, viewZ, m_Tiles, fast, out, m_Signal, debt});
         chain.stabilization =
             builder.AddDispatch<TS>(Name(isSpecular, 5), {normal, viewZ, m_Tiles, m_Signal, fast, stabilized, out});
     }

@@ -39,8 +39,9 @@ void Store(ivec2 pixel, vec4 v)
 }
 
 // History fix (document 004, REBLUR: "history fix"), run by the blur where the history is shorter
-// than gHistoryFixFrameNum frames (disocclusion, anti-lag): a 5x5 sparse grid whose stride shrinks
-// as the history grows, weighted by geometry.
+// than gHistoryFixFrameNum frames (disocclusion, anti-lag, confidence): a 5x5 sparse grid whose stride
+// shrinks as the history grows (the history a confidence input took, the debt, counts as grown),
+// weighted by geometry.
 vec4 HistoryFix(ivec2 pixel, ReblurSurface s, vec4 center, float historyLength)
 {
     ivec2 maxPixel = ivec2(gResourceSize) - 1;
@@ -92,11 +93,13 @@ void main()
     ReblurSurface s = _Reblur_Surface(gIn_NormalRoughness, pixel, viewZ);
     float historyLength = isPrePass ? 0.0 : texelFetch(sampler2D(gIn_Fast, gNearestClamp), pixel, 0).y;
     historyLength = clamp(_NRD_Sanitize(historyLength, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
+    float debt = isPrePass ? 0.0 : texelFetch(sampler2D(gIn_Debt, gNearestClamp), pixel, 0).x;
+    float fixLength = historyLength + clamp(_NRD_Sanitize(debt, 0.0), 0.0, 1.0) * REBLUR_DEBT_SCALE;
     float radius = _Reblur_BlurRadius(historyLength, center.w, viewZ, s.roughness) * gPassRadiusScale;
     bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
     if (gPassIndex == 1u && historyLength < gHistoryFixFrameNum && !isReference)
     {
-        Store(pixel, _NRD_ClampToHalf(HistoryFix(pixel, s, center, historyLength)));
+        Store(pixel, _NRD_ClampToHalf(HistoryFix(pixel, s, center, fixLength)));
         return;
     }
     if ((isReference || radius < 0.5) && isTraced)

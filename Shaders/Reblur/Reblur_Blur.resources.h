@@ -21,4 +21,5 @@ NRD_INPUT(2, gIn_Tiles)
 NRD_INPUT(3, gIn_Fast)
 NRD_INPUT(4, gIn_Signal)
 NRD_OUTPUT(5, gOut_Signal)
+NRD_INPUT(6, gIn_Debt) // Confidence debt / REBLUR_DEBT_SCALE (history fix).
 NRD_PASS_END

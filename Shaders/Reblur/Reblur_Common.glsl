@@ -36,6 +36,10 @@
 #define REBLUR_ANTILAG_RADIUS 2
 #define REBLUR_DIFFUSE_ANTILAG_NOISE_SCALE 0.67
 
+// Confidence debt (the frames of history a confidence input took, up to gHistoryFixFrameNum), stored
+// in R8 UNORM as debt / REBLUR_MAX_HISTORY_FIX_FRAME_NUM (NRDSettings.h: 3).
+#define REBLUR_DEBT_SCALE 3.0
+
 //==================================================================================================
 // Inputs.
 //==================================================================================================

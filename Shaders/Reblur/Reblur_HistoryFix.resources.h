@@ -25,9 +25,11 @@ NRD_INPUT(4, gIn_Aux)
 NRD_OUTPUT(5, gOut_History)
 NRD_OUTPUT(6, gOut_Fast)
 NRD_OUTPUT(7, gOut_Stabilized)
+NRD_OUTPUT(8, gOut_Debt)
 #else
 NRD_OUTPUT(4, gOut_History)
 NRD_OUTPUT(5, gOut_Fast)
 NRD_OUTPUT(6, gOut_Stabilized)
+NRD_OUTPUT(7, gOut_Debt)
 #endif
 NRD_PASS_END

@@ -30,5 +30,8 @@ NRD_INPUT(9, gPrev_Stabilized)
 NRD_INOUT(10, gInOut_Signal, rgba16f)
 #if !REBLUR_OCCLUSION
 NRD_OUTPUT(11, gOut_Aux)
+NRD_INPUT(12, gPrev_Debt) // Confidence debt / REBLUR_DEBT_SCALE.
+#else
+NRD_INPUT(11, gPrev_Debt)
 #endif
 NRD_PASS_END
