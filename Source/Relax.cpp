@@ -14,9 +14,9 @@
 //                              shared memory, the last writes OUT_*_RADIANCE_HITDIST.
 //
 // Memory (bytes per pixel): per signal, permanent slow history RGBA16F (radiance, hit distance),
-// fast history RGBA16F (fast radiance, sqrt of the second moment), history length R8 = 17; shared
-// permanent viewZ R16F = 2; transient, shared by the chains (they run one after the other): one
-// RGBA16F and one R8 = 9, plus the 1/8 x 1/8 tile map. The application's output texture carries the
+// fast history RGBA16F (fast radiance, sqrt of the second moment), history length and confidence
+// debt RG8 = 18; shared permanent viewZ R16F = 2; transient, shared by the chains (they run one after
+// the other): one RGBA16F and one RG8 = 10, plus the 1/8 x 1/8 tile map. The application's output texture carries the
 // temporal pass's fast history to the history fix and is the a-trous iterations' second ping-pong
 // buffer before the final result is written into it.
 #include "InstanceImpl.h"
@@ -171,7 +171,7 @@ public:
 
         m_Tiles = builder.AddTransientTexture(Format::R8_UNORM, kTileSize, kTileSize);
         const ResourceRef transient = builder.AddTransientTexture(Format::RGBA16_SFLOAT);
-        const ResourceRef transientLength = builder.AddTransientTexture(Format::R8_UNORM);
+        const ResourceRef transientLength = builder.AddTransientTexture(Format::RG8_UNORM);
         const ResourceRef prevViewZ = builder.AddPermanentTexture(Format::R16_SFLOAT);
         m_Classify = builder.AddDispatch<passes::Relax_ClassifyTiles>("RELAX - Classify tiles", {viewZ, m_Tiles});
 
@@ -184,7 +184,8 @@ public:
                 continue;
             const ResourceRef slow = builder.AddPermanentTexture(Format::RGBA16_SFLOAT);
             const ResourceRef fast = builder.AddPermanentTexture(Format::RGBA16_SFLOAT);
-            const ResourceRef length = builder.AddPermanentTexture(Format::R8_UNORM);
+            // History length (.x) and confidence debt (.y, the frames the confidence input took).
+            const ResourceRef length = builder.AddPermanentTexture(Format::RG8_UNORM);
             const ResourceRef input =
                 App(isSpecular ? ResourceType::IN_SPEC_RADIANCE_HITDIST : ResourceType::IN_DIFF_RADIANCE_HITDIST);
             const ResourceRef confidence = App(isSpecular ? ResourceType::IN_SPEC_CONFIDENCE : ResourceType::IN_DIFF_CONFIDENCE);

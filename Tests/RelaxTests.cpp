@@ -346,8 +346,8 @@ TEST_CASE("RELAX settings are validated and the wrong settings type is refused",
 
 TEST_CASE("RELAX_DIFFUSE_SPECULAR pool memory at 2560x1440 is what its formats add up to, under 60% of NRD's", "[api]")
 {
-    // Per pixel: permanent 2 x (RGBA16F + RGBA16F + R8) + R16F = 36 bytes; transient (shared by the
-    // two signals) RGBA16F + R8 = 9 bytes, plus the 1/64-size tile map.
+    // Per pixel: permanent 2 x (RGBA16F + RGBA16F + RG8) + R16F = 38 bytes; transient (shared by the
+    // two signals) RGBA16F + RG8 = 10 bytes, plus the 1/64-size tile map.
     DenoiserCreationDesc desc = RelaxCreationDesc(Method::RELAX_DIFFUSE_SPECULAR, 2560, 1440);
     Denoiser* denoiser = nullptr;
     REQUIRE(CreateDenoiser(desc, denoiser) == Result::SUCCESS);
@@ -364,8 +364,8 @@ TEST_CASE("RELAX_DIFFUSE_SPECULAR pool memory at 2560x1440 is what its formats a
     double total = double(permanent + transient) / 1e6;
     std::printf("RELAX_DIFFUSE_SPECULAR at 2560x1440: permanent %.2f MB, transient %.2f MB, total %.2f MB (%.1f%% of NRD's)\n",
                 double(permanent) / 1e6, double(transient) / 1e6, total, 100.0 * total / kNrdMegabytes);
-    CHECK(permanent == 36ull * 2560 * 1440);
-    CHECK(transient == 9ull * 2560 * 1440 + 320 * 180);
+    CHECK(permanent == 38ull * 2560 * 1440);
+    CHECK(transient == 10ull * 2560 * 1440 + 320 * 180);
     CHECK(total <= 0.6 * kNrdMegabytes);
     DestroyDenoiser(denoiser);
 }
@@ -418,7 +418,7 @@ std::vector<float> VarianceReference(const Inputs& in, const std::vector<float>&
         if (in.IsSky(i))
             continue;
         float m1 = Luminance(&slow[i * 4]), m2 = fast[i * 4 + 3] * fast[i * 4 + 3];
-        float n = std::max(std::floor(length[i] * 255.0f + 0.5f), 1.0f); // R8: one channel.
+        float n = std::max(std::floor(length[i] * 255.0f + 0.5f), 1.0f);
         for (int c = 0; c < 3; c++)
             out[i * 4 + c] = slow[i * 4 + c];
         out[i * 4 + 3] = test::RoundToHalf(std::max(m2 - m1 * m1, 0.0f) / n, truncate);
@@ -476,7 +476,12 @@ TEST_CASE("RELAX variance estimation and a-trous iterations equal a CPU evaluati
         auto permanent = [&](size_t k) {
             return test::ReadbackPoolTexture(*context, rig.integration, ResourceType::PERMANENT_POOL, v[k].indexInPool);
         };
-        std::vector<float> slow = permanent(3), fast = permanent(4), length = permanent(5);
+        std::vector<float> slow = permanent(3), fast = permanent(4), lengthDebt = permanent(5);
+        // RG8: history length (.x) and confidence debt (.y).
+        REQUIRE(lengthDebt.size() == 2u * w * h);
+        std::vector<float> length(size_t(w) * h);
+        for (size_t i = 0; i < length.size(); i++)
+            length[i] = lengthDebt[2 * i];
         std::vector<float> b = test::ReadbackPoolTexture(*context, rig.integration, ResourceType::TRANSIENT_POOL,
                                                          resources[size_t(first)][5].indexInPool);
 

@@ -4,7 +4,8 @@
 #extension GL_EXT_control_flow_attributes : require
 
 // RELAX history fix and history clamping (document 004, RELAX):
-// - histories shorter than gHistoryFixFrameNum frames are replaced by a 5x5 sparse average of their
+// - histories shorter than gHistoryFixFrameNum frames (not counting what a confidence input took: the
+//   length texture's .y) are replaced by a 5x5 sparse average of their
 //   neighbours (taps gHistoryFixStride * (1 - length / gHistoryFixFrameNum) / 2 pixels apart, at
 //   least 1), weighted by tangent-plane distance, normal (cos^8), roughness (specular) and by
 //   1 + the neighbour's history length, so that fresh disocclusions borrow settled neighbours;
@@ -43,11 +44,15 @@ void main()
 
     vec4 slow = texelFetch(gIn_Slow, pixel, 0);
     vec4 fast = texelFetch(gIn_Fast, pixel, 0);
-    float historyLength = _NRD_UnpackHistoryLength(texelFetch(gIn_Length, pixel, 0).x);
+    vec2 lengthDebt = texelFetch(gIn_Length, pixel, 0).xy;
+    float historyLength = _NRD_UnpackHistoryLength(lengthDebt.x);
+    // The confidence debt (Relax_TemporalAccumulation.comp) counts as history here.
+    float debt = _NRD_UnpackHistoryLength(lengthDebt.y);
+    float fixLength = historyLength + debt;
 
-    if (historyLength < gHistoryFixFrameNum)
+    if (fixLength < gHistoryFixFrameNum)
     {
-        float stride = max(gHistoryFixStride * 0.5 * (1.0 - historyLength / gHistoryFixFrameNum), 1.0);
+        float stride = max(gHistoryFixStride * 0.5 * (1.0 - fixLength / gHistoryFixFrameNum), 1.0);
         vec4 slowSum = vec4(0.0), fastSum = vec4(0.0);
         float m2Sum = 0.0, weightSum = 0.0;
         for (int j = -2; j <= 2; j++)
@@ -161,5 +166,5 @@ void main()
     }
     imageStore(gOut_Slow, pixel, _NRD_ClampToHalf(slow));
     imageStore(gOut_Fast, pixel, _NRD_ClampToHalf(fast));
-    imageStore(gOut_Length, pixel, vec4(_NRD_PackHistoryLength(historyLength)));
+    imageStore(gOut_Length, pixel, vec4(_NRD_PackHistoryLength(historyLength), _NRD_PackHistoryLength(debt), 0.0, 0.0));
 }

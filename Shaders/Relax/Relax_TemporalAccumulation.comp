@@ -18,7 +18,8 @@
 //   histories;
 // - specular: the history of glossy surfaces is shortened by the parallax between the surface and
 //   virtual reprojections, n <= max / (1 + parallax in pixels * (1 - roughness)^2);
-// - optional confidence input: the history length is multiplied by it;
+// - optional confidence input: the history length is multiplied by it (what it takes is kept as a
+//   debt that keeps the history fix away);
 // - checkerboard: pixels not traced this frame take the mean of their traced 4-neighbours on the
 //   same surface when they have no history, else keep the history unchanged.
 #include "Bindings.glsl"
@@ -47,9 +48,10 @@ bool IsTraced(ivec2 p)
 }
 
 // Bilinear history at 'uvPrev' over the taps that hold the same surface, renormalized; 'footprint'
-// is the kept part of the bilinear weights (0: disoccluded), 'historyLength' in frames.
+// is the kept part of the bilinear weights (0: disoccluded), 'historyLength' and 'debt' (the
+// confidence debt) in frames.
 void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out vec4 fast, out float historyLength,
-               out float footprint)
+               out float debt, out float footprint)
 {
     ivec2 size = ivec2(gResourceSize);
     NrdFootprint f = _NRD_Footprint(uvPrev, vec2(size));
@@ -65,7 +67,9 @@ void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out
     footprint = gResetHistory != 0u || !(r.footprintWeight > 1e-4) ? 0.0 : r.footprintWeight;
     slow = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Slow, r) : vec4(0.0);
     fast = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Fast, r) : vec4(0.0);
-    historyLength = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Length, r).x * NRD_HISTORY_LENGTH_MAX : 0.0;
+    vec2 lengthDebt = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Length, r).xy * NRD_HISTORY_LENGTH_MAX : vec2(0.0);
+    historyLength = lengthDebt.x;
+    debt = _NRD_IsFinite(lengthDebt.y) ? clamp(lengthDebt.y, 0.0, gHistoryFixFrameNum) : 0.0;
     // History that is not finite (or not a radiance) restarts.
     if (!_NRD_IsFinite(slow) || !_NRD_IsFinite(fast) || !_NRD_IsFinite(historyLength) || any(lessThan(slow, vec4(0.0))) ||
         any(lessThan(fast, vec4(0.0))))
@@ -74,6 +78,7 @@ void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out
         slow = vec4(0.0);
         fast = vec4(0.0);
         historyLength = 0.0;
+        debt = 0.0;
     }
     historyLength = clamp(historyLength, 0.0, NRD_HISTORY_LENGTH_MAX);
 }
@@ -125,8 +130,8 @@ void main()
     ivec2 size = ivec2(gResourceSize);
 
     vec4 prevSlow, prevFast;
-    float prevLength, footprint;
-    Reproject(uvPrev, zExpected, tolerance, prevSlow, prevFast, prevLength, footprint);
+    float prevLength, debt, footprint;
+    Reproject(uvPrev, zExpected, tolerance, prevSlow, prevFast, prevLength, debt, footprint);
 #if RELAX_SPECULAR
     // Virtual motion: reflections move with the reflected point's image, the more so the glossier
     // the lobe. The virtual history is taken where it holds the same surface, blended in by the
@@ -135,20 +140,24 @@ void main()
     vec2 uvPrevVirtual = _NRD_VirtualPreviousUv(worldPos, worldPosPrev - worldPos, _NRD_CameraPosition(), hitDist,
                                                 s.roughness, gWorldToClipPrev);
     vec4 virtualSlow, virtualFast;
-    float virtualLength, virtualFootprint;
-    Reproject(uvPrevVirtual, zExpected, tolerance, virtualSlow, virtualFast, virtualLength, virtualFootprint);
+    float virtualLength, virtualDebt, virtualFootprint;
+    Reproject(uvPrevVirtual, zExpected, tolerance, virtualSlow, virtualFast, virtualLength, virtualDebt, virtualFootprint);
     float virtualAmount = virtualFootprint > 0.5 ? _NRD_SpecularDominantFactor(s.roughness) : 0.0;
     if (footprint <= 1e-4)
         virtualAmount = virtualFootprint > 1e-4 ? 1.0 : 0.0;
     prevSlow = mix(prevSlow, virtualSlow, virtualAmount);
     prevFast = mix(prevFast, virtualFast, virtualAmount);
     prevLength = mix(prevLength, virtualLength, virtualAmount);
+    debt = mix(debt, virtualDebt, virtualAmount);
     footprint = max(footprint, virtualFootprint * virtualAmount);
     float parallax = _NRD_ParallaxInPixels(uvPrev, uvPrevVirtual, vec2(gResourceSize));
 #endif
     bool hasHistory = footprint > 1e-4;
     if (!hasHistory)
+    {
         prevLength = 0.0;
+        debt = 0.0;
+    }
 
     // The fast history follows "now": it is clamped per channel to this frame's 3x3 input
     // neighbourhood (traced pixels on the same surface, as the history fix's clamping box; mean +-
@@ -185,8 +194,17 @@ void main()
             prevFast.w = min(prevFast.w, sqrt(lumaHi * lumaHi + lumaSigma * lumaSigma));
         }
     }
+    // Confidence debt: the frames of history the confidence took (up to gHistoryFixFrameNum). The
+    // history fix runs on the length plus the debt: where the lighting changed on a surface that was
+    // in view, this frame's sample and the clamped history are better than the history fix's wide
+    // average of neighbours whose histories were cut as well (toggling_light). Carried with the
+    // history, lost with it on disocclusion; 0 without the confidence input.
 #if RELAX_CONFIDENCE
-    prevLength *= clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
+    float confidence = clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
+    debt = min(debt + prevLength * (1.0 - confidence), gHistoryFixFrameNum);
+    prevLength *= confidence;
+#else
+    debt = 0.0;
 #endif
 
 #if RELAX_SPECULAR
@@ -308,5 +326,5 @@ void main()
     // pixel is inside the image (Relax_LoadSurface returned a surface).
     imageStore(gOut_Slow, pixel, _NRD_ClampToHalf(slow));
     imageStore(gOut_Fast, pixel, _NRD_ClampToHalf(fast));
-    imageStore(gOut_Length, pixel, vec4(_NRD_PackHistoryLength(historyLength)));
+    imageStore(gOut_Length, pixel, vec4(_NRD_PackHistoryLength(historyLength), _NRD_PackHistoryLength(debt), 0.0, 0.0));
 }
