@@ -5,8 +5,8 @@
 // the luminance accumulated over at most gMaxFastAccumulatedFrameNum frames; where the slow
 // luminance leaves the fast one by more than gAntilagSigmaScale of the fast history's expected
 // noise, the history length is cut towards the fast length and the slow value is moved onto the
-// fast one (anti-lag). Confidence (optional) shortens the history where < 1 (what it takes is kept as
-// a debt that narrows the history fix). Specular blends the
+// fast one (anti-lag). Confidence (optional) shortens the history where < 1, to no less than
+// NRD_CONFIDENCE_MIN_HISTORY frames (what it takes is kept as a debt that narrows the history fix). Specular blends the
 // surface-motion and virtual-motion histories (_Reblur_Reproject). Checkerboard: the pixels not
 // traced this frame take history only (or, without history, their traced horizontal neighbours).
 #version 450
@@ -101,8 +101,9 @@ void main()
     if (hasConfidence)
     {
         confidence = clamp(_NRD_Sanitize(texelFetch(sampler2D(gIn_Confidence, gNearestClamp), pixel, 0).x, 1.0), 0.0, 1.0);
-        debt = min(debt + historyLength * (1.0 - confidence), gHistoryFixFrameNum);
-        historyLength *= confidence;
+        float kept = _NRD_ConfidenceHistoryLength(historyLength, confidence);
+        debt = min(debt + historyLength - kept, gHistoryFixFrameNum);
+        historyLength = kept;
     }
 
     bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;

@@ -18,8 +18,8 @@
 //   histories;
 // - specular: the history of glossy surfaces is shortened by the parallax between the surface and
 //   virtual reprojections, n <= max / (1 + parallax in pixels * (1 - roughness)^2);
-// - optional confidence input: the history length is multiplied by it (what it takes is kept as a
-//   debt that keeps the history fix away);
+// - optional confidence input: the history length is multiplied by it, to no less than
+//   NRD_CONFIDENCE_MIN_HISTORY frames (what it takes is kept as a debt that keeps the history fix away);
 // - checkerboard: pixels not traced this frame take the mean of their traced 4-neighbours on the
 //   same surface when they have no history, else keep the history unchanged.
 #include "Bindings.glsl"
@@ -201,8 +201,9 @@ void main()
     // history, lost with it on disocclusion; 0 without the confidence input.
 #if RELAX_CONFIDENCE
     float confidence = clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
-    debt = min(debt + prevLength * (1.0 - confidence), gHistoryFixFrameNum);
-    prevLength *= confidence;
+    float kept = _NRD_ConfidenceHistoryLength(prevLength, confidence);
+    debt = min(debt + prevLength - kept, gHistoryFixFrameNum);
+    prevLength = kept;
 #else
     debt = 0.0;
 #endif
