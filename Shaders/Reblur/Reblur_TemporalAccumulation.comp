@@ -183,7 +183,10 @@ void main()
         float n = min(historyLength, gMaxFastAccumulatedFrameNum);
         float reference = slowLuma;
         float fastNow = fast;
-        float noise = (sigma + 0.05 * max(fast, slowLuma) + 1e-4) / sqrt(n + 1.0) * REBLUR_SPECULAR_ANTILAG_NOISE_SCALE;
+        // A confidence below 1 narrows the tolerance as for diffuse (the lighting changed: the slow
+        // history follows the fast one sooner).
+        float noise = (sigma + 0.05 * max(fast, slowLuma) + 1e-4) / sqrt(n + 1.0) * REBLUR_SPECULAR_ANTILAG_NOISE_SCALE *
+                      max(confidence, 0.05);
 #else
         // The same mean of the previous slow history around the reprojected position (the box of
         // each bilinear tap, weighted bilinearly), over the taps on the same surface.
