@@ -59,7 +59,6 @@ struct Shortfall
 
 // clang-format off
 const Shortfall kShortfalls[] = {
-    {"camera_translation", "specular", 5.62, 0.0, 0.0},    // ratio 5.92 (bar 6.10)
     {"light_switch", "diffuse", 0.0, 0.0, 0.0},            // lag 8 (ratio 12.06, FLIP 0.0935 -> 0.0555, bias +0.2%)
 };
 // clang-format on
@@ -122,6 +121,15 @@ TEST_CASE("REBLUR meets the quality bar on a still, a moving and a light-switch 
         CheckBar("camera_translation", signal, true);
     }
     CheckBar("light_switch", "diffuse", true);
+}
+
+// mesh_engine: steel of roughness 0.45 reflecting its own fins under a camera swinging 1.8 degrees
+// a frame; the reflections change more from frame to frame than the input's noise, and a long
+// specular history left the output worse than the input (0.78x its relMSE at 128x128). The
+// specular history follows the view's parallax (Shaders/Reblur/README.md).
+TEST_CASE("REBLUR specular meets the bar on triangle geometry under a swinging camera", "[quality][reblur]")
+{
+    CheckBar("mesh_engine", "specular", true);
 }
 
 TEST_CASE("REBLUR occlusion outputs lie in [0, 1] and meet the bar against the hit distance truth", "[quality][reblur]")

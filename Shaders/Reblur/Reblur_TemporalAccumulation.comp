@@ -107,6 +107,19 @@ void main()
     }
 
     bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
+#if REBLUR_SPECULAR
+    // Parallax: at most REBLUR_SPECULAR_PARALLAX_FRACTION of the lobe's half-angle over the view's
+    // turn per frame (whole frames: a fraction of a frame of history still mixed the fins' bright
+    // reflections into the gaps between them on mesh_engine). A still view keeps its history (also
+    // on mirrors, whose lobe is 0); with checkerboard input the pixels not traced this frame keep a
+    // frame of history (their alternative is the horizontal neighbours' average).
+    if (!isReference && rp.parallax > 0.0)
+    {
+        float parallaxLimit = REBLUR_SPECULAR_PARALLAX_FRACTION * _Reblur_LobeHalfAngle(s.roughness) / rp.parallax;
+        parallaxLimit = max(floor(min(parallaxLimit, NRD_HISTORY_LENGTH_MAX)), gCheckerboard != 0u ? 1.0 : 0.0);
+        historyLength = min(historyLength, parallaxLimit);
+    }
+#endif
     float maxLength = isReference ? NRD_HISTORY_LENGTH_MAX : max(gMaxAccumulatedFrameNum, 1.0);
     float luma = _Reblur_Luma(current);
 
