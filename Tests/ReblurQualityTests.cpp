@@ -184,8 +184,8 @@ TEST_CASE("REBLUR with checkerboard input stays within its measured factor of th
         std::printf("REBLUR %s checkerboard relMSE %.5f, full rate %.5f\n", signal, half.mean.relmseDenoised,
                     full.mean.relmseDenoised);
         INFO(signal);
-        // Not met yet: measured 1.52x (diffuse) and 1.93x (specular) the full-rate error, pinned
+        // Not met yet: measured 1.52x (diffuse) and 1.59x (specular) the full-rate error, pinned
         // 5% above; the bar is 1.5x (Shaders/Reblur/README.md).
-        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 1.59 : 2.03) * full.mean.relmseDenoised);
+        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 1.59 : 1.67) * full.mean.relmseDenoised);
     }
 }

@@ -176,7 +176,14 @@ void main()
         fast = fastSample;
         stabilized = luma;
     }
+#if REBLUR_SPECULAR
+    // Checkerboard: the specular fast-history clamp and anti-lag run once per sample, on the frames
+    // the pixel is traced (run on the frames between as well, their second clamp and cut of the
+    // same history darkened the mean: static 64x64, -5.5% -> -2.6%).
+    else if (!isReference && count > 0.0 && isTraced)
+#else
     else if (!isReference && count > 0.0)
+#endif
     {
         // Without a finite sample around (a frame of NaN input) the fast history and the anti-lag
         // wait for the next frame.
