@@ -22,8 +22,14 @@
 // samples are heavy-tailed (rare bright ones), so the fast history strays from the slow one by more
 // than a Gaussian's few sigma far more often; each such cut shortened the history soon after the
 // rare bright samples had entered it at a small weight, and darkened the mean (sky at 64x64:
-// -5.3% with 1, -2.9% with 1.5, -1.3% with 2; camera_translation's error rises with it).
-#define REBLUR_SPECULAR_ANTILAG_NOISE_SCALE 1.5
+// -5.3% with 1, -2.9% with 1.5, -1.3% with 2). The fast history's clamp to this frame's 3x3 box
+// (mean + 4 sigma of nine skewed samples, most often without a bright one) keeps it below the slow
+// history most of the time; without that clamp there is no bias, but a light switched off then
+// stays in the history. 2.5 since the specular history follows the view's parallax (the camera
+// motion that made camera_translation's error rise with this scale is now the parallax limit's):
+// sky at 128x128 (H100) -4.6% -> -2.9%, roughness_sweep -3.5% -> -2.5%, errors within 1% except
+// roughness_sweep's (+8%).
+#define REBLUR_SPECULAR_ANTILAG_NOISE_SCALE 2.5
 
 // Specular history under parallax: a reflection seen from a direction that turned by an angle
 // theta since the previous frame shows another part of the lobe's surroundings; the history keeps
