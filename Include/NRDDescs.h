@@ -198,8 +198,8 @@ enum class ResourceType : uint32_t
 
     // [R8+] (Optional) Confidence of the history per pixel, .x in [0, 1]: 1 = history valid, 0 =
     // history invalid (lighting changed); values in between shorten the history (the history length
-    // is multiplied by it, but not below 4 frames: the denoiser's clamps and anti-lag move the
-    // frames kept to the new lighting; Shaders/Confidence/README.md). Non-finite values count as 1.
+    // is multiplied by it; REBLUR diffuse and RELAX keep at least 4 frames, which their clamps and
+    // anti-lag move to the new lighting; Shaders/Confidence/README.md). Non-finite values count as 1.
     IN_DIFF_CONFIDENCE,
     IN_SPEC_CONFIDENCE,
 

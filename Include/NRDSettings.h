@@ -312,7 +312,8 @@ constexpr float REBLUR_MAX_BLUR_RADIUS = 64.0f;
 // (IN_GRADIENTS .x / .y for diffuse, .z / .w for specular; differences and luminances filtered
 // independently, then interpolated to the pixel):
 //     g = D / max(L, 1e-6)                                      normalized gradient, [0, 1] for the lab's
-//     c = clamp(1 - (g - gradientThreshold) * gradientSensitivity, 0, 1)
+//     c = clamp(1 - (g - gradientThreshold) * sensitivity, 0, 1)    sensitivity: gradientSensitivity
+//                                                                  (diffuse), specularGradientSensitivity
 //     confidence = mix(c, history, c < history ? fallHistoryWeight : riseHistoryWeight)
 //     confidence = confidence >= 0.99 ? 1 : confidence
 // where 'history' is last frame's confidence reprojected with IN_MV (c alone after a restart or
@@ -324,12 +325,16 @@ struct ConfidenceSettings
     // Normalized gradients up to this value are noise: confidence stays 1, [0, 1).
     float gradientThreshold = 0.05f;
 
-    // Slope of the confidence above the threshold: confidence reaches 0 at a normalized gradient of
-    // gradientThreshold + 1 / gradientSensitivity, [1, 1000]. 1 lowers the error of REBLUR and
-    // RELAX_DIFFUSE on every lighting change of the scene lab; 2 restarts their history where a
-    // light switches and halves the lag behind it, at a cost where a light toggles every few frames
-    // (Shaders/Confidence/README.md, which also has RELAX_SPECULAR's figures).
+    // Slope of the diffuse confidence above the threshold: confidence reaches 0 at a normalized
+    // gradient of gradientThreshold + 1 / gradientSensitivity, [1, 1000]. With 1, REBLUR's and
+    // RELAX's diffuse error is no higher than without confidence on every lighting change of the scene
+    // lab, and REBLUR_DIFFUSE no longer trails a switched light (Shaders/Confidence/README.md).
     float gradientSensitivity = 1.0f;
+
+    // The same for the specular confidence, [1, 1000]. Steeper by default: a highlight narrower than
+    // the 3x3 strata and the a-trous footprint has diluted gradients (2 lowers both specular
+    // consumers' error and lets REBLUR_SPECULAR follow a switched light).
+    float specularGradientSensitivity = 2.0f;
 
     // Weight of last frame's confidence where the new one is lower (history being invalidated),
     // [0, 1). 0: invalidation on the frame of the change.

@@ -36,6 +36,7 @@ Result ValidateConfidenceSettings(const ConfidenceSettings& s, const Logger& log
     const FloatRange floats[] = {
         {"gradientThreshold", s.gradientThreshold, 0.0f, 1.0f, true},
         {"gradientSensitivity", s.gradientSensitivity, 1.0f, 1000.0f, false},
+        {"specularGradientSensitivity", s.specularGradientSensitivity, 1.0f, 1000.0f, false},
         {"fallHistoryWeight", s.fallHistoryWeight, 0.0f, 1.0f, true},
         {"riseHistoryWeight", s.riseHistoryWeight, 0.0f, 1.0f, true},
         {"depthThreshold", s.depthThreshold, 0.0f, 1.0f, false},
@@ -129,6 +130,7 @@ public:
         t.gGradientSize = {gradientWidth, gradientHeight};
         t.gGradientThreshold = s.gradientThreshold;
         t.gGradientSensitivity = s.gradientSensitivity;
+        t.gSpecularGradientSensitivity = s.specularGradientSensitivity;
         t.gFallHistoryWeight = s.fallHistoryWeight;
         t.gRiseHistoryWeight = s.riseHistoryWeight;
         const uint32_t last = (s.atrousPassNum - 1) & 1u;

@@ -76,7 +76,7 @@ TEST_CASE("CONFIDENCE falls below 0.5 around a switched light within 2 frames", 
         {
             nrdlab::RunOptions o = SmallRun("light_switch", "CONFIDENCE", frames);
             o.signal = signal;
-            o.settingsJson = R"({"confidence": {"gradientSensitivity": 4}})";
+            o.settingsJson = R"({"confidence": {"gradientSensitivity": 4, "specularGradientSensitivity": 4}})";
             nrdlab::RunReport r = Run(o);
             if (frames == 17)
             {
@@ -120,13 +120,14 @@ Pair RunBoth(const std::string& scene, const std::string& method, uint32_t frame
 
 // Trailing light: frames after each sudden change of the truth (its image mean moves by more than
 // 5% from one frame to the next, after the warm-up) until the output's mean is back within 1% of
-// the truth's, relative to the output's bias over the 4 frames before the first change (the
-// consumers' steady bias, specular's -2% included); the longest over the changes, each counted up
-// to the next one. The lab's lag (RunReport::lagFrames) and low-pass lag count the frames until the
+// the truth's (specular: 2%, its image mean moves by 1-1.5% from frame to frame on short histories),
+// relative to the output's bias over the 4 frames before the first change (the consumers' steady
+// bias, specular's -2% included); the longest over the changes, each counted up to the next one. The lab's lag (RunReport::lagFrames) and low-pass lag count the frames until the
 // error is back within twice its level before the change, which a restarted history's noise keeps
 // above for 7 frames at 64x64 however fast the light follows (Shaders/Confidence/README.md).
 int MeanLag(const nrdlab::RunReport& r)
 {
+    const double tolerance = r.method.find("SPECULAR") != std::string::npos ? 0.02 : 0.01;
     const std::vector<nrdlab::FrameMetrics>& f = r.perFrame;
     std::vector<size_t> changes;
     for (size_t t = std::max<size_t>(r.warmup, 1); t < f.size(); t++)
@@ -143,7 +144,7 @@ int MeanLag(const nrdlab::RunReport& r)
     {
         size_t end = i + 1 < changes.size() ? changes[i + 1] : f.size();
         for (size_t t = changes[i]; t < end; t++)
-            if (std::abs(bias(t) - before) > 0.01)
+            if (std::abs(bias(t) - before) > tolerance)
                 worst = std::max(worst, int(t - changes[i] + 1));
     }
     return worst;
@@ -158,10 +159,10 @@ struct Case
 
 // Issue 16's bar where the lighting changes, with CONFIDENCE's default settings: relMSE no higher
 // with confidence than without and the trailing light (MeanLag) no longer. Halved: only where
-// 'halved' is set. REBLUR_DIFFUSE on light_switch: 7 frames without confidence at 64x64, 0 with it;
-// RELAX_DIFFUSE's mean clamps follow the lamp within 2 frames without confidence; the specular
-// consumers' bias after the lamp comes back (-6% of the truth's mean against -2% before, for the
-// rest of the run) stays with confidence (Shaders/Confidence/README.md: not met).
+// 'halved' is set, on light_switch: REBLUR_DIFFUSE 7 frames without confidence at 64x64, 0 with it;
+// REBLUR_SPECULAR 16 -> 0. RELAX_DIFFUSE's mean clamps follow the lamp within 2 frames without
+// confidence; RELAX_SPECULAR's bias after the lamp comes back (-6% of the truth's mean against -2%
+// before) stays with confidence (Shaders/Confidence/README.md: not met).
 void CheckLightingChange(const Case& c, bool halved = false)
 {
     Pair p = RunBoth(c.scene, c.method, c.frames);
@@ -185,8 +186,9 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE: relMSE no higher and the light no l
     // RELAX_SPECULAR under the moving lamp (1.07x without confidence before the consumers kept
     // NRD_CONFIDENCE_MIN_HISTORY frames). Every lighting scene and consumer: the [slow] case below.
     CheckLightingChange({"light_switch", "REBLUR_DIFFUSE", 32}, true);
-    const Case cases[] = {{"light_switch", "RELAX_DIFFUSE", 32},    {"light_switch", "REBLUR_SPECULAR", 32},
-                          {"light_switch", "RELAX_SPECULAR", 32},   {"toggling_light", "REBLUR_DIFFUSE", 40},
+    CheckLightingChange({"light_switch", "REBLUR_SPECULAR", 32}, true);
+    const Case cases[] = {{"light_switch", "RELAX_DIFFUSE", 32},    {"light_switch", "RELAX_SPECULAR", 32},
+                          {"toggling_light", "REBLUR_SPECULAR", 40}, {"toggling_light", "REBLUR_DIFFUSE", 40},
                           {"toggling_light", "RELAX_DIFFUSE", 40},  {"moving_light", "RELAX_SPECULAR", 24}};
     for (const Case& c : cases)
         CheckLightingChange(c);
@@ -215,7 +217,7 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE on every lighting scene and consumer
     for (const char* scene : {"light_switch", "toggling_light", "moving_light", "fast_occluder", "moving_occluder",
                               "venetian_blinds", "mesh_character", "mesh_thin"})
         for (const char* method : consumers)
-            CheckLightingChange({scene, method, 40}, std::string(scene) == "light_switch" && std::string(method) == "REBLUR_DIFFUSE");
+            CheckLightingChange({scene, method, 40}, std::string(scene) == "light_switch" && std::string(method).find("REBLUR") == 0);
     for (const char* scene : {"static", "camera_translation", "mesh_engine"})
         for (const char* method : consumers)
         {

@@ -68,6 +68,8 @@ TEST_CASE("ConfidenceSettings outside their ranges are rejected with the field's
         {"gradientThreshold", [](ConfidenceSettings& s) { s.gradientThreshold = kNaN; }},
         {"gradientSensitivity", [](ConfidenceSettings& s) { s.gradientSensitivity = 0.5f; }},
         {"gradientSensitivity", [](ConfidenceSettings& s) { s.gradientSensitivity = 1001.0f; }},
+        {"specularGradientSensitivity", [](ConfidenceSettings& s) { s.specularGradientSensitivity = 0.5f; }},
+        {"specularGradientSensitivity", [](ConfidenceSettings& s) { s.specularGradientSensitivity = kNaN; }},
         {"fallHistoryWeight", [](ConfidenceSettings& s) { s.fallHistoryWeight = 1.0f; }},
         {"riseHistoryWeight", [](ConfidenceSettings& s) { s.riseHistoryWeight = -0.1f; }},
         {"atrousPassNum", [](ConfidenceSettings& s) { s.atrousPassNum = 0; }},
@@ -235,10 +237,11 @@ struct CpuConfidence
         return g;
     }
 
-    float Convert(float d, float l) const
+    float Convert(float d, float l, int signal) const
     {
         float g = d / std::max(l, 1e-6f);
-        return std::min(std::max(1.0f - std::max(g - s.gradientThreshold, 0.0f) * s.gradientSensitivity, 0.0f), 1.0f);
+        float sensitivity = signal == 0 ? s.gradientSensitivity : s.specularGradientSensitivity;
+        return std::min(std::max(1.0f - std::max(g - s.gradientThreshold, 0.0f) * sensitivity, 0.0f), 1.0f);
     }
 
     // Raw (before the temporal filter) and filtered confidence, kW * kH * 2; sky pixels left as NaN.
@@ -267,7 +270,7 @@ struct CpuConfidence
                 for (int c = 0; c < 2; c++)
                 {
                     size_t i = (size_t(y) * w + x) * 2 + c;
-                    float conf = Convert(g[c * 2], g[c * 2 + 1]);
+                    float conf = Convert(g[c * 2], g[c * 2 + 1], c);
                     raw[i] = conf;
                     if (!reset && hasHistory)
                     {

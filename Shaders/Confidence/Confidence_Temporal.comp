@@ -36,7 +36,7 @@ void main()
              w.z * _Confidence_LoadGradient(gIn_Gradients, clamp(origin + ivec2(0, 1), ivec2(0), maxTexel)) +
              w.w * _Confidence_LoadGradient(gIn_Gradients, clamp(origin + ivec2(1, 1), ivec2(0), maxTexel));
     vec2 confidence = vec2(_Confidence_FromGradient(g.x, g.y, gGradientThreshold, gGradientSensitivity),
-                           _Confidence_FromGradient(g.z, g.w, gGradientThreshold, gGradientSensitivity));
+                           _Confidence_FromGradient(g.z, g.w, gGradientThreshold, gSpecularGradientSensitivity));
 
     if (gResetHistory == 0u)
     {

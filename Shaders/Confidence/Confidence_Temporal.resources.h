@@ -8,8 +8,8 @@ NRD_CONSTANTS_BEGIN
     NRD_CONSTANT(float, gGradientSensitivity)
     NRD_CONSTANT(float, gFallHistoryWeight)
     NRD_CONSTANT(float, gRiseHistoryWeight)
+    NRD_CONSTANT(float, gSpecularGradientSensitivity)
     NRD_CONSTANT(uint, gPad0)
-    NRD_CONSTANT(uint, gPad1)
 NRD_CONSTANTS_END
 NRD_INPUT(0, gIn_Gradients)
 NRD_INPUT(1, gIn_ViewZ)

@@ -216,8 +216,8 @@ float _NRD_UnpackHistoryLength(float packed) { return floor(_NRD_Sanitize(packed
 // Confidence input (IN_DIFF_CONFIDENCE / IN_SPEC_CONFIDENCE, REBLUR and RELAX).
 //==================================================================================================
 
-// The history length that a confidence c in [0, 1] leaves: c times the length, but no shorter than
-// NRD_CONFIDENCE_MIN_HISTORY frames (nor longer than it was). The consumers' own clamps and
+// The history length that a confidence c in [0, 1] leaves (REBLUR diffuse, RELAX): c times the
+// length, but no shorter than NRD_CONFIDENCE_MIN_HISTORY frames (nor longer than it was). The consumers' own clamps and
 // anti-lag move the few frames kept to this frame's lighting; a restart to 0 frames costs more
 // noise than the light left in them costs bias where a light toggles every few frames (scene lab,
 // 64x64, CONFIDENCE at sensitivity 1, relMSE against the run without confidence, restart -> kept 4:

@@ -45,11 +45,12 @@ public:
                 if (g.isValid())
                 {
                     const float* s = &g.pixels[(size_t(y / 3) * g.width + x / 3) * 4 + (diffuse ? 0 : 2)];
-                    noisy.pixels[i] = Convert(s[0], s[1]);
+                    noisy.pixels[i] = Convert(s[0], s[1], diffuse);
                 }
                 luminance[i] = t.isValid() ? Luminance(&t.pixels[i * t.channels]) : 0.0f;
                 truth.pixels[i] = m_PrevLuminance.size() == luminance.size()
-                                      ? Convert(std::fabs(luminance[i] - m_PrevLuminance[i]), std::max(luminance[i], m_PrevLuminance[i]))
+                                      ? Convert(std::fabs(luminance[i] - m_PrevLuminance[i]), std::max(luminance[i], m_PrevLuminance[i]),
+                                                diffuse)
                                       : 1.0f;
             }
         m_PrevLuminance = luminance;
@@ -61,6 +62,7 @@ public:
         nrd::ConfidenceSettings& c = m_Settings;
         ReadSetting(s, "gradientThreshold", c.gradientThreshold);
         ReadSetting(s, "gradientSensitivity", c.gradientSensitivity);
+        ReadSetting(s, "specularGradientSensitivity", c.specularGradientSensitivity);
         ReadSetting(s, "fallHistoryWeight", c.fallHistoryWeight);
         ReadSetting(s, "riseHistoryWeight", c.riseHistoryWeight);
         ReadSetting(s, "atrousPassNum", c.atrousPassNum);
@@ -96,11 +98,12 @@ public:
     Image DecodeOutput(const std::string&, const Image& output) const override { return KeepChannels(output, 1); }
 
 private:
-    float Convert(float difference, float luminance) const
+    float Convert(float difference, float luminance, bool diffuse) const
     {
         const nrd::ConfidenceSettings& s = m_Settings;
         float g = difference / std::max(luminance, 1e-6f);
-        return std::min(std::max(1.0f - std::max(g - s.gradientThreshold, 0.0f) * s.gradientSensitivity, 0.0f), 1.0f);
+        float sensitivity = diffuse ? s.gradientSensitivity : s.specularGradientSensitivity;
+        return std::min(std::max(1.0f - std::max(g - s.gradientThreshold, 0.0f) * sensitivity, 0.0f), 1.0f);
     }
 
     nrd::ConfidenceSettings m_Settings;
