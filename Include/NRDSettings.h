@@ -384,8 +384,8 @@ struct RelaxSettings
     uint32_t historyFixFrameNum = 3;
 
     // Distance between the history-fix taps at history length 0, pixels, [1, 32] (5x5 taps, so the
-    // reach is this much on either side).
-    float historyFixStride = 14.0f;
+    // reach is this much on either side). Wider borrows light from other parts of the scene.
+    float historyFixStride = 4.0f;
 
     // Slow history clamped to the fast history's 3x3 mean +- this many standard deviations, [0.5, 4]
     // (diffuse: the spread of the fast history; specular: the slow history's own spread and the fast

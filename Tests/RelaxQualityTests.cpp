@@ -7,13 +7,21 @@
 // the lamp within 3 frames of each switch. The lag figure of the bar (at most 3 frames at 128x128)
 // is measured by nrd-sample on the GPU (Shaders/Relax/README.md): on lavapipe's 64-spp truth the
 // error of the dark frames alone sits near twice the lit frames' and the figure is noise.
+// Moving scenes (a camera, object or light track): relMSE no higher than the `--bounds` oracle (blend
+// factor 0.25) and a third of the input's; disocclusion at 128x128 in CI.
+// [size128] (ctest label slow): every built-in scene at 128x128, both signals, against the whole
+// bar; combinations that miss it go to kShortfalls with their measured figures (5% margin) so that
+// they can only improve.
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
+#include "Scene.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -95,4 +103,87 @@ TEST_CASE("RELAX follows a light switched off and on within 3 frames", "[quality
         INFO("frame " << f << ": mean " << fm.meanDenoised << ", truth " << fm.meanTruth);
         CHECK(std::fabs(fm.meanDenoised / fm.meanTruth - 1.0) <= 0.02);
     }
+}
+
+namespace
+{
+
+// A combination that misses the bar, pinned at its measured figures (lavapipe, 128x128, 5% margin):
+// relMSE at most 'maxRelmseOfBar' times the bar's, the mean within 'maxBias' of the truth's.
+struct Shortfall
+{
+    const char* scene;
+    const char* signal;
+    double maxRelmseOfBar;
+    double maxBias;
+};
+
+const std::vector<Shortfall> kShortfalls = {
+};
+
+const Shortfall* FindShortfall(const std::string& scene, const std::string& signal)
+{
+    for (const Shortfall& s : kShortfalls)
+        if (scene == s.scene && signal == s.signal)
+            return &s;
+    return nullptr;
+}
+
+// The whole bar of issue 14 at 'size': still scenes relMSE 1/10 (diffuse) or 1/6 (specular) of the
+// input's, moving ones at most the oracle's and a third of the input's; everywhere FLIP below the
+// input's, temporal instability at most half the input's, the mean within 3% of the truth's.
+void CheckSceneBar(const std::string& name, const char* signal, uint32_t size)
+{
+    nrdlab::Scene scene;
+    std::string error;
+    REQUIRE(nrdlab::LoadScene(name, scene, error));
+    const bool isMoving = nrdlab::IsSceneAnimated(scene);
+    const bool isDiffuse = std::string(signal) == "diffuse";
+
+    nrdlab::RunOptions o;
+    o.scene = name;
+    o.method = "RELAX_DIFFUSE_SPECULAR";
+    o.signal = signal;
+    o.width = o.height = size;
+    o.frames = 40; // 32 measured.
+    o.warmup = 8;
+    o.truthSpp = 64;
+    o.bounds = isMoving;
+    o.keepImages = false;
+    nrdlab::RunReport r;
+    INFO(name << " " << signal << " " << size << "x" << size << ": " << error);
+    REQUIRE(nrdlab::RunMethod(o, r, error));
+
+    const nrdlab::FrameMetrics& m = r.mean;
+    const double bar = isMoving ? std::min(m.boundOracle, m.relmseNoisy / 3.0)
+                                : m.relmseNoisy / (isDiffuse ? 10.0 : 6.0);
+    const double bias = m.meanDenoised / std::max(m.meanTruth, 1e-12) - 1.0;
+    const Shortfall* shortfall = FindShortfall(name, signal);
+    std::printf("RELAX %-18s %-8s %3ux%-3u %s relMSE %.5f -> %.5f (bar %.5f, %.3f of it)  FLIP %.4f -> %.4f  "
+                "instability %.4f -> %.4f  bias %+.2f%%%s\n",
+                name.c_str(), signal, size, size, isMoving ? "moving" : "still ", m.relmseNoisy, m.relmseDenoised, bar,
+                m.relmseDenoised / bar, m.flipNoisy, m.flipDenoised, m.temporalInstabilityNoisy,
+                m.temporalInstabilityDenoised, bias * 100.0, shortfall ? "  (known shortfall)" : "");
+    if (isMoving)
+        REQUIRE(m.boundOracle > 0.0);
+    CHECK(m.relmseDenoised <= bar * (shortfall ? shortfall->maxRelmseOfBar : 1.0));
+    CHECK(m.flipDenoised < m.flipNoisy);
+    CHECK(m.temporalInstabilityDenoised <= 0.5 * m.temporalInstabilityNoisy);
+    CHECK(std::fabs(bias) <= (shortfall ? std::max(shortfall->maxBias, 0.03) : 0.03));
+}
+
+} // namespace
+
+TEST_CASE("RELAX meets the moving-scene bar on disocclusion", "[quality]")
+{
+    // Measured on lavapipe: relMSE 0.0099, 0.53 of the oracle's (0.0206, 1.11 of it, with the history
+    // fix's former 14-pixel stride and bilinear resampling of the histories).
+    CheckSceneBar("disocclusion", "diffuse", 128);
+}
+
+TEST_CASE("RELAX against the quality bar on every built-in scene at 128x128", "[size128]")
+{
+    for (const std::string& scene : nrdlab::GetBuiltinSceneNames())
+        for (const char* signal : {"diffuse", "specular"})
+            CheckSceneBar(scene, signal, 128);
 }

@@ -15,7 +15,8 @@
 //   history's noise), shifted by the excess, which also shortens the history;
 // - clamping: the slow history is clamped per channel to mean +- gHistoryClampSigma * sigma of the
 //   fast history's 3x3 neighbourhood (specular: sigma from the slow history's spread and the fast
-//   history's noise); a slow history beyond gAntilagSigma sigma of the pixel's fast history also
+//   history's noise, the box centred on the slow history's own 3x3 mean while it agrees with the fast
+//   one's); a slow history beyond gAntilagSigma sigma of the pixel's fast history also
 //   loses history length (down to the fast history's), so that it keeps following it.
 #include "Bindings.glsl"
 #include "Relax_Constants.h"
@@ -27,6 +28,10 @@
 // Diffuse: the slow history's 3x3 mean is kept within this many standard deviations of the fast
 // history's (Relax_TemporalAccumulation.comp has the same test against the input).
 #define RELAX_MEAN_CLAMP_SIGMA 1.0
+
+// Specular: the clamping box's centre follows the fast history's 3x3 mean beyond this many standard
+// deviations of its noise.
+#define RELAX_SPECULAR_CENTER_SIGMA 2.0
 
 void main()
 {
@@ -157,7 +162,20 @@ void main()
             slow.rgb *= l > 0.0 ? clamped / l : 1.0;
         }
 
-        vec3 clamped = clamp(slow.rgb, mean - gHistoryClampSigma * sigma, mean + gHistoryClampSigma * sigma);
+        vec3 center = mean;
+#if RELAX_SPECULAR
+        // Specular: the box is centred on the slow history's own 3x3 mean while it stays within the
+        // noise of the fast history's 3x3 mean (RELAX_SPECULAR_CENTER_SIGMA standard deviations plus
+        // 2%), and moved towards the fast mean by the excess: the fast mean of heavy-tailed samples is
+        // low more often than high, and a box centred on it darkens converged history.
+        {
+            float lFast = _NRD_Luminance(mean), lSlow = _NRD_Luminance(meanSlow);
+            float threshold = RELAX_SPECULAR_CENTER_SIGMA * sqrt(fastNoise / count) + 0.02 * lFast + 1e-6;
+            float d = abs(lFast - lSlow);
+            center = meanSlow + (mean - meanSlow) * (d > threshold ? 1.0 - threshold / d : 0.0);
+        }
+#endif
+        vec3 clamped = clamp(slow.rgb, max(center - gHistoryClampSigma * sigma, vec3(0.0)), center + gHistoryClampSigma * sigma);
         float sigmaLuma = _NRD_Luminance(sigma) + 1e-6 + 0.01 * _NRD_Luminance(mean);
         float deviation = abs(_NRD_Luminance(slow.rgb) - _NRD_Luminance(fast.rgb)) / sigmaLuma;
         float antilag = gAntilagSigma > 0.0 ? clamp((deviation - gAntilagSigma) / gAntilagSigma, 0.0, 1.0) : 0.0;

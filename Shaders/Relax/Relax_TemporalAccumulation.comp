@@ -6,7 +6,9 @@
 // RELAX temporal accumulation (document 004, RELAX; SVGF section 4.1):
 // - the history is reprojected with surface motion (Reprojection.glsl); each of the 2x2 bilinear
 //   taps is kept only where its previous viewZ matches the point's (per-tap disocclusion), the kept
-//   weights renormalized; specular also follows the virtual motion of the reflection;
+//   weights renormalized; under motion, where the whole footprint holds the same surface, both
+//   histories are resampled with Catmull-Rom within the footprint's range (bilinear resampling every
+//   frame blurs them); specular also follows the virtual motion of the reflection;
 // - slow history: radiance, hit distance and the second luminance moment with alpha
 //   1 / (n + 1), n = min(history length, gMaxAccumulatedFrameNum); fast history: radiance with
 //   n = min(history length, gMaxFastAccumulatedFrameNum);
@@ -47,6 +49,19 @@ bool IsTraced(ivec2 p)
     return gCheckerboard == 0u || ((uint(p.x + p.y) + gFrameIndex + gCheckerboard) & 1u) == 0u;
 }
 
+// Catmull-Rom history within the range of the bilinear footprint's 2x2 texels (no ringing).
+vec4 _Relax_CatmullRomWithinFootprint(texture2D history, NrdFootprint footprint, ivec2 size)
+{
+    vec4 lo = vec4(NRD_FP16_MAX), hi = vec4(0.0);
+    for (int k = 0; k < 4; k++)
+    {
+        vec4 v = _NRD_Sanitize(texelFetch(history, footprint.origin + ivec2(k & 1, k >> 1), 0), 0.0);
+        lo = min(lo, v);
+        hi = max(hi, v);
+    }
+    return clamp(_NRD_CatmullRomHistory(history, footprint, size), lo, hi);
+}
+
 // Bilinear history at 'uvPrev' over the taps that hold the same surface, renormalized; 'footprint'
 // is the kept part of the bilinear weights (0: disoccluded), 'historyLength' and 'debt' (the
 // confidence debt) in frames.
@@ -62,11 +77,22 @@ void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out
     // A reprojection onto pixel centres (a still camera) must not blur the history through
     // rounding: fractions within 1e-3 of a texel snap to it.
     vec2 snapped = mix(r.footprint.f, round(r.footprint.f), lessThan(abs(r.footprint.f - round(r.footprint.f)), vec2(1e-3)));
-    r.weights = _NRD_BilinearWeights(snapped) * _NRD_TapValidity(r.footprint.origin, size, prevViewZ, zExpected, tolerance);
+    vec4 validity = _NRD_TapValidity(r.footprint.origin, size, prevViewZ, zExpected, tolerance);
+    r.weights = _NRD_BilinearWeights(snapped) * validity;
     r.footprintWeight = dot(r.weights, vec4(1.0));
     footprint = gResetHistory != 0u || !(r.footprintWeight > 1e-4) ? 0.0 : r.footprintWeight;
     slow = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Slow, r) : vec4(0.0);
     fast = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Fast, r) : vec4(0.0);
+    // Under motion both histories are resampled with Catmull-Rom where the whole bilinear footprint
+    // holds the same surface: bilinear resampling every frame blurs them away from the truth's
+    // detail. Kept within the footprint's range (Catmull-Rom rings).
+    if (footprint > 0.0 && all(greaterThan(validity, vec4(0.5))) && any(notEqual(snapped, round(snapped))))
+    {
+        NrdFootprint crFootprint = r.footprint;
+        crFootprint.f = snapped;
+        slow.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Slow, crFootprint, size).rgb;
+        fast.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Fast, crFootprint, size).rgb;
+    }
     vec2 lengthDebt = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Length, r).xy * NRD_HISTORY_LENGTH_MAX : vec2(0.0);
     historyLength = lengthDebt.x;
     debt = _NRD_IsFinite(lengthDebt.y) ? clamp(lengthDebt.y, 0.0, gHistoryFixFrameNum) : 0.0;
