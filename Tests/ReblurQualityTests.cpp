@@ -1,19 +1,22 @@
-// REBLUR on the scene lab against issue 13's quality bar, CI-sized (64x64, 24 frames of which the
-// first 8 are a warm-up, truth of 64 samples per pixel; Shaders/Reblur/README.md has the figures
-// at 128x128 and 256x256 with 32 measured frames):
-// - still scenes: relMSE at most 1/10 of the input's (diffuse, occlusion) or 1/6 (specular);
+// REBLUR on the scene lab against issue 13's quality bar:
+// - still scenes: relMSE at most 1/10 of the noisy input's (diffuse, occlusion) or 1/6 (specular);
 // - moving scenes: relMSE no higher than the `--bounds` oracle at its best blend factor and at most
 //   1/3 of the input's;
 // - everywhere: FLIP below the input's, temporal instability at most half the input's, the mean
 //   within 3% of the truth's; lag on light_switch at most 6 frames.
-// Combinations that do not meet the bar yet are in kShortfalls, with their measured figures (5%
-// margin) so that they can only improve; move a line out of the table when it meets the bar.
+// [quality] (CI): a few scenes at 64x64, 24 frames of which the first 8 are a warm-up, truth of 64
+// samples per pixel. [size128] (ctest label slow): every built-in scene, diffuse and specular, at
+// 128x128, 40 frames of which 8 are a warm-up (32 measured, as the issue asks), truth 64 spp.
+// Shaders/Reblur/README.md has the figures (H100, truth 256 spp). Combinations that do not meet the
+// bar yet are in kShortfalls, with their measured figures (5% margin) so that they can only
+// improve; move a line out of the table when it meets the bar.
 // Also: forceReferenceAccumulation converges like the REFERENCE method, the occlusion outputs lie
 // in [0, 1], and checkerboard input stays within its measured factor of the full-rate error (the
 // bar, 1.5x, is not met yet).
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
+#include "Scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -25,14 +28,15 @@ namespace
 
 constexpr uint32_t kSize = 64;
 
-nrdlab::RunOptions Options(const std::string& scene, const std::string& method, const std::string& signal)
+nrdlab::RunOptions Options(const std::string& scene, const std::string& method, const std::string& signal,
+                           uint32_t size = kSize, uint32_t frames = 24)
 {
     nrdlab::RunOptions o;
     o.scene = scene;
     o.method = method;
     o.signal = signal;
-    o.width = o.height = kSize;
-    o.frames = 24;
+    o.width = o.height = size;
+    o.frames = frames;
     o.warmup = 8;
     o.truthSpp = 64;
     o.keepImages = false;
@@ -52,32 +56,43 @@ struct Shortfall
 {
     const char* scene;
     const char* signal;
+    uint32_t size;
     double minRelmseRatio; // relMSE(input) / relMSE(output) at least this (the bar's when 0).
     double maxFlipRatio;   // FLIP(output) / FLIP(input) at most this (1 when 0).
     double maxBias;        // |mean(output) / mean(truth) - 1| at most this (0.03 when 0).
+    int maxLag;            // light_switch diffuse: lag at most this many frames (6 when 0).
 };
 
 // clang-format off
 const Shortfall kShortfalls[] = {
-    {"light_switch", "diffuse", 0.0, 0.0, 0.0},            // lag 8 (ratio 12.06, FLIP 0.0935 -> 0.0555, bias +0.2%)
+    {"light_switch", "diffuse", 64, 0.0, 0.0, 0.0, 8},         // lag 8 (ratio 12.06, FLIP 0.0935 -> 0.0555, bias +0.2%)
+    // 128x128, 40 frames, truth 64 spp (the same runs on the H100: Shaders/Reblur/README.md).
+    {"mesh_engine", "diffuse", 128, 2.2, 0.0, 0.0, 0},       // ratio 2.31 (bar 3.00)
+    {"mesh_thin", "diffuse", 128, 2.47, 0.0, 0.0, 0},        // ratio 2.59 (bar 3.00)
+    {"mesh_thin", "specular", 128, 2.11, 0.0, 0.0, 0},       // ratio 2.21 (bar 3.23)
+    {"venetian_blinds", "diffuse", 128, 1.56, 0.0, 0.0, 0},  // ratio 1.64 (bar 3.00)
 };
 // clang-format on
 
-const Shortfall* FindShortfall(const std::string& scene, const std::string& signal)
+const Shortfall* FindShortfall(const std::string& scene, const std::string& signal, uint32_t size)
 {
     for (const Shortfall& s : kShortfalls)
-        if (scene == s.scene && signal == s.signal)
+        if (scene == s.scene && signal == s.signal && size == s.size)
             return &s;
     return nullptr;
 }
 
-void CheckBar(const std::string& scene, const std::string& signal, bool isMoving)
+void CheckBar(const std::string& scene, const std::string& signal, uint32_t size = kSize, uint32_t frames = 24)
 {
+    nrdlab::Scene lab;
+    std::string error;
+    REQUIRE(nrdlab::LoadScene(scene, lab, error));
+    const bool isMoving = nrdlab::IsSceneAnimated(lab);
     const char* method = signal == "diffuse"              ? "REBLUR_DIFFUSE"
                          : signal == "specular"           ? "REBLUR_SPECULAR"
                          : signal == "diffuse_occlusion"  ? "REBLUR_DIFFUSE_OCCLUSION"
                                                           : "REBLUR_SPECULAR_OCCLUSION";
-    nrdlab::RunOptions o = Options(scene, method, signal);
+    nrdlab::RunOptions o = Options(scene, method, signal, size, frames);
     o.bounds = isMoving;
     const nrdlab::RunReport r = Run(o);
     const nrdlab::FrameMetrics& m = r.mean;
@@ -92,23 +107,23 @@ void CheckBar(const std::string& scene, const std::string& signal, bool isMoving
     // Still: 1/10 (1/6 specular) of the input's; moving: the best oracle and 1/3 of the input's.
     const double barRatio =
         isMoving ? std::max(3.0, m.relmseNoisy / std::max(bestOracle, 1e-12)) : (isSpecular ? 6.0 : 10.0);
-    const Shortfall* shortfall = FindShortfall(scene, signal);
-    std::printf("REBLUR %-18s %-18s relMSE %.5f -> %.5f (ratio %6.2f, bar %5.2f)  FLIP %.4f -> %.4f  "
+    const Shortfall* shortfall = FindShortfall(scene, signal, size);
+    std::printf("REBLUR %3ux%-3u %-18s %-18s relMSE %.5f -> %.5f (ratio %6.2f, bar %5.2f)  FLIP %.4f -> %.4f  "
                 "instability %.4f -> %.4f  bias %+.2f%%  lag %d%s\n",
-                scene.c_str(), signal.c_str(), m.relmseNoisy, m.relmseDenoised, ratio, barRatio, m.flipNoisy,
+                size, size, scene.c_str(), signal.c_str(), m.relmseNoisy, m.relmseDenoised, ratio, barRatio, m.flipNoisy,
                 m.flipDenoised, m.temporalInstabilityNoisy, m.temporalInstabilityDenoised, bias * 100.0, r.lagFrames,
                 shortfall ? "  (known shortfall)" : "");
-    INFO(scene << " " << signal);
+    INFO(scene << " " << signal << " " << size << "x" << size);
     CHECK(std::isfinite(m.relmseDenoised));
     CHECK(ratio >= (shortfall && shortfall->minRelmseRatio > 0.0 ? shortfall->minRelmseRatio : barRatio));
     CHECK(flipRatio <= (shortfall && shortfall->maxFlipRatio > 0.0 ? shortfall->maxFlipRatio : 1.0));
     CHECK(std::abs(bias) <= (shortfall && shortfall->maxBias > 0.0 ? shortfall->maxBias : 0.03));
     CHECK(m.temporalInstabilityDenoised <= 0.5 * m.temporalInstabilityNoisy);
-    // light_switch lags 8 frames (bar 6): the mean follows the lamp within a frame, but the error
-    // of the history cut by the anti-lag stays above twice the steady error for 8 frames
-    // (Shaders/Reblur/README.md).
-    if (scene == "light_switch")
-        CHECK(r.lagFrames <= (shortfall ? 8 : 6));
+    // light_switch lags 8 frames at 64x64 (bar 6; 6 at 128x128 and 256x256): the mean follows the
+    // lamp within a frame, but the error of the history cut by the anti-lag stays above twice the
+    // steady error for 8 frames (Shaders/Reblur/README.md).
+    if (scene == "light_switch" && signal == "diffuse")
+        CHECK(r.lagFrames <= (shortfall && shortfall->maxLag > 0 ? shortfall->maxLag : 6));
 }
 
 } // namespace
@@ -117,10 +132,10 @@ TEST_CASE("REBLUR meets the quality bar on a still, a moving and a light-switch 
 {
     for (const char* signal : {"diffuse", "specular"})
     {
-        CheckBar("static", signal, false);
-        CheckBar("camera_translation", signal, true);
+        CheckBar("static", signal);
+        CheckBar("camera_translation", signal);
     }
-    CheckBar("light_switch", "diffuse", true);
+    CheckBar("light_switch", "diffuse");
 }
 
 // mesh_engine: steel of roughness 0.45 reflecting its own fins under a camera swinging 1.8 degrees
@@ -129,14 +144,14 @@ TEST_CASE("REBLUR meets the quality bar on a still, a moving and a light-switch 
 // specular history follows the view's parallax (Shaders/Reblur/README.md).
 TEST_CASE("REBLUR specular meets the bar on triangle geometry under a swinging camera", "[quality][reblur]")
 {
-    CheckBar("mesh_engine", "specular", true);
+    CheckBar("mesh_engine", "specular");
 }
 
 TEST_CASE("REBLUR occlusion outputs lie in [0, 1] and meet the bar against the hit distance truth", "[quality][reblur]")
 {
     for (const char* signal : {"diffuse_occlusion", "specular_occlusion"})
     {
-        CheckBar("static", signal, false);
+        CheckBar("static", signal);
         nrdlab::RunOptions o = Options("static", signal == std::string("diffuse_occlusion") ? "REBLUR_DIFFUSE_OCCLUSION"
                                                                                              : "REBLUR_SPECULAR_OCCLUSION",
                                        signal);
@@ -188,4 +203,11 @@ TEST_CASE("REBLUR with checkerboard input stays within its measured factor of th
         // 5% above; the bar is 1.5x (Shaders/Reblur/README.md).
         CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 1.59 : 1.67) * full.mean.relmseDenoised);
     }
+}
+
+TEST_CASE("REBLUR meets the quality bar on every built-in scene at 128x128", "[size128]")
+{
+    for (const std::string& scene : nrdlab::GetBuiltinSceneNames())
+        for (const char* signal : {"diffuse", "specular"})
+            CheckBar(scene, signal, 128, 40);
 }
