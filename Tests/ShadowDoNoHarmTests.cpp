@@ -5,10 +5,11 @@
 //
 // Not every scene meets it yet: the combinations in kShortfalls do not. Those assert their measured
 // relMSE ratio (input / output, 10% below) and FLIP ratio (output / input, 10% above) instead, so
-// that they can only improve; move a line out of the table when it meets the bar. The figures were
-// measured on an NVIDIA H100; lavapipe (CI's device) gives the same relMSE ratios within 3.5%, and
-// FLIP is printed to 4 decimals, hence the margin. The triangle-mesh scenes are included:
-// TILED_SHADOW falls far short on mesh_engine and mesh_thin (Shaders/TiledShadow/README.md).
+// that they can only improve; move a line out of the table when it meets the bar. Each line says
+// where it was measured: lavapipe (CI's device) for 64x64 and 128x128, mostly the NVIDIA H100 for
+// 256x256 (lavapipe gives the same relMSE ratios within 3.5%, and FLIP is printed to 4 decimals,
+// hence the margin). The triangle-mesh scenes are included:
+// TILED_SHADOW falls far short on mesh_thin (Shaders/TiledShadow/README.md).
 //
 // 64x64 and 128x128 in CI (label quality, one test case per scene and size); 256x256 hidden
 // (ctest entry nrd_shadow_quality_tests_256, label slow); the executable without arguments runs all three. 24 frames, the first 8 a
@@ -42,20 +43,20 @@ const Shortfall kShortfalls[] = {
     // SIGMA passes these through all but unchanged; lavapipe's FLIP is 2.5e-4 / 1.3e-4 above the input's.
     {"fast_orbit", "SIGMA_SHADOW", 64, 0.99, 1.01}, // ratio 1.000 (oracle 1.09), FLIP 0.0077672 -> 0.0077692 (lavapipe)
     {"mesh_engine", "SIGMA_SHADOW", 128, 0.99, 1.01}, // ratio 1.000 (oracle 1.81), FLIP 0.0049300 -> 0.0049307 (lavapipe)
-    {"mesh_character", "SIGMA_SHADOW", 64, 1.04, 1.71}, // ratio 1.165 (oracle 0.43), FLIP 0.0274 -> 0.0424
-    {"mesh_thin", "SIGMA_SHADOW", 64, 0.71, 2.06}, // ratio 0.793 (oracle 0.86), FLIP 0.0169 -> 0.0316
-    {"moving_light", "SIGMA_SHADOW", 64, 0.90, 1.99}, // ratio 1.002 (oracle 0.54), FLIP 0.0192 -> 0.0346
-    {"moving_occluder", "SIGMA_SHADOW", 64, 2.12, 1.22}, // ratio 2.362 (oracle 1.98), FLIP 0.0138 -> 0.0153
-    {"toggling_light", "SIGMA_SHADOW", 64, 2.24, 2.62}, // ratio 2.496 (oracle 5.22), FLIP 0.0109 -> 0.0259
-    {"venetian_blinds", "SIGMA_SHADOW", 64, 0.52, 2.32}, // ratio 0.579 (oracle 1.53), FLIP 0.0220 -> 0.0464
-    {"camera_translation", "SIGMA_SHADOW", 128, 0.96, 1.00}, // ratio 1.068 (oracle 2.52), FLIP 0.0054 -> 0.0054
-    {"fast_orbit", "SIGMA_SHADOW", 128, 0.92, 1.00}, // ratio 1.032 (oracle 2.09), FLIP 0.0067 -> 0.0067
-    {"mesh_character", "SIGMA_SHADOW", 128, 1.58, 1.33}, // ratio 1.756 (oracle 0.42), FLIP 0.0237 -> 0.0286
-    {"mesh_thin", "SIGMA_SHADOW", 128, 0.77, 1.85}, // ratio 0.865 (oracle 0.90), FLIP 0.0169 -> 0.0283
-    {"moving_light", "SIGMA_SHADOW", 128, 1.13, 1.58}, // ratio 1.256 (oracle 0.54), FLIP 0.0172 -> 0.0246
-    {"moving_occluder", "SIGMA_SHADOW", 128, 1.53, 1.22}, // ratio 1.701 (oracle 1.79), FLIP 0.0122 -> 0.0135
-    {"toggling_light", "SIGMA_SHADOW", 128, 3.70, 1.84}, // ratio 4.114 (oracle 5.21), FLIP 0.0090 -> 0.0150
-    {"venetian_blinds", "SIGMA_SHADOW", 128, 0.42, 2.18}, // ratio 0.474 (oracle 1.43), FLIP 0.0228 -> 0.0450
+    {"mesh_character", "SIGMA_SHADOW", 64, 1.16, 1.55}, // ratio 1.296 (oracle 0.43), FLIP 0.0274 -> 0.0384 (lavapipe)
+    {"mesh_thin", "SIGMA_SHADOW", 64, 0.71, 1.95}, // ratio 0.797 (oracle 0.86), FLIP 0.0169 -> 0.0299 (lavapipe)
+    {"moving_light", "SIGMA_SHADOW", 64, 0.97, 1.76}, // ratio 1.083 (oracle 0.54), FLIP 0.0192 -> 0.0307 (lavapipe)
+    {"moving_occluder", "SIGMA_SHADOW", 64, 2.22, 1.13}, // ratio 2.470 (oracle 1.98), FLIP 0.0138 -> 0.0141 (lavapipe)
+    {"toggling_light", "SIGMA_SHADOW", 64, 2.43, 1.84}, // ratio 2.702 (oracle 5.22), FLIP 0.0109 -> 0.0182 (lavapipe)
+    {"venetian_blinds", "SIGMA_SHADOW", 64, 0.83, 2.09}, // ratio 0.923 (oracle 1.53), FLIP 0.0220 -> 0.0416 (lavapipe)
+    {"camera_translation", "SIGMA_SHADOW", 128, 0.96, 1.00}, // ratio 1.068 (oracle 2.57), FLIP 0.0054 -> 0.0054 (lavapipe)
+    {"fast_orbit", "SIGMA_SHADOW", 128, 0.92, 1.00}, // ratio 1.032 (oracle 2.09), FLIP 0.0067 -> 0.0067 (lavapipe)
+    {"mesh_character", "SIGMA_SHADOW", 128, 1.79, 1.27}, // ratio 1.989 (oracle 0.42), FLIP 0.0237 -> 0.0272 (lavapipe)
+    {"mesh_thin", "SIGMA_SHADOW", 128, 0.83, 1.70}, // ratio 0.926 (oracle 0.90), FLIP 0.0169 -> 0.0259 (lavapipe)
+    {"moving_light", "SIGMA_SHADOW", 128, 1.17, 1.46}, // ratio 1.308 (oracle 0.54), FLIP 0.0172 -> 0.0227 (lavapipe)
+    {"moving_occluder", "SIGMA_SHADOW", 128, 1.53, 1.18}, // ratio 1.691 (oracle 1.77), FLIP 0.0122 -> 0.0130 (lavapipe)
+    {"toggling_light", "SIGMA_SHADOW", 128, 3.70, 1.43}, // ratio 3.918 (oracle 5.21), FLIP 0.0090 -> 0.0117 (lavapipe)
+    {"venetian_blinds", "SIGMA_SHADOW", 128, 0.69, 1.96}, // ratio 0.777 (oracle 1.43), FLIP 0.0228 -> 0.0405 (lavapipe)
     {"camera_rotation", "TILED_SHADOW", 64, 0.85, 1.15}, // ratio 0.954 (oracle 1.31), FLIP 0.0063 -> 0.0065 (lavapipe)
     {"camera_translation", "TILED_SHADOW", 64, 0.82, 1.10}, // ratio 0.916 (oracle 1.65), FLIP 0.0057 -> 0.0057 (lavapipe)
     {"disocclusion", "TILED_SHADOW", 64, 1.16, 0.77}, // ratio 1.294 (oracle 5.70), FLIP 0.0051 -> 0.0035 (lavapipe)
