@@ -35,17 +35,25 @@ struct Measured
     int32_t lag = 0;
 };
 
-Measured Run(const char* scene, const char* signal, uint32_t size = 128, nrdlab::RunReport* report = nullptr)
+// The runs every RELAX quality case measures: 40 frames (32 measured after 8 of warm-up), truth 64 spp.
+nrdlab::RunOptions QualityRunOptions(const std::string& scene, const std::string& method, const char* signal, uint32_t size)
 {
     nrdlab::RunOptions o;
     o.scene = scene;
-    o.method = std::string("RELAX_") + (std::string(signal) == "diffuse" ? "DIFFUSE" : "SPECULAR");
+    o.method = method;
     o.signal = signal;
     o.width = o.height = size;
-    o.frames = 40; // 32 measured.
+    o.frames = 40;
     o.warmup = 8;
     o.truthSpp = 64;
     o.keepImages = false;
+    return o;
+}
+
+Measured Run(const char* scene, const char* signal, uint32_t size = 128, nrdlab::RunReport* report = nullptr)
+{
+    nrdlab::RunOptions o =
+        QualityRunOptions(scene, std::string("RELAX_") + (std::string(signal) == "diffuse" ? "DIFFUSE" : "SPECULAR"), signal, size);
     nrdlab::RunReport r;
     std::string error;
     if (!nrdlab::RunMethod(o, r, error))
@@ -145,16 +153,8 @@ void CheckSceneBar(const std::string& name, const char* signal, uint32_t size)
     const bool isMoving = nrdlab::IsSceneAnimated(scene);
     const bool isDiffuse = std::string(signal) == "diffuse";
 
-    nrdlab::RunOptions o;
-    o.scene = name;
-    o.method = "RELAX_DIFFUSE_SPECULAR";
-    o.signal = signal;
-    o.width = o.height = size;
-    o.frames = 40; // 32 measured.
-    o.warmup = 8;
-    o.truthSpp = 64;
+    nrdlab::RunOptions o = QualityRunOptions(name, "RELAX_DIFFUSE_SPECULAR", signal, size);
     o.bounds = isMoving;
-    o.keepImages = false;
     nrdlab::RunReport r;
     INFO(name << " " << signal << " " << size << "x" << size << ": " << error);
     REQUIRE(nrdlab::RunMethod(o, r, error));
