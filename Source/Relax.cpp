@@ -64,6 +64,8 @@ namespace
 
 constexpr uint32_t kTileSize = 8;
 constexpr uint32_t kMaxAtrousIterationNum = 8;
+// Iterations (steps 1 and 2) whose taps are read from shared memory (Relax_Atrous.comp's region).
+constexpr uint32_t kSmemAtrousIterationNum = 2;
 
 typedef passes::Relax_ClassifyTiles::Constants RelaxConstants;
 static_assert(sizeof(RelaxConstants) == sizeof(passes::Relax_Diffuse_TemporalAccumulation::Constants) &&
@@ -155,7 +157,7 @@ struct Chain
     uint32_t temporal[2] = {}; // Without / with the confidence input.
     uint32_t historyFix = 0;
     uint32_t variance[2] = {};   // [0] -> transient, [1] -> output.
-    // Per iteration k ([0]: shared memory), since a template runs at most once per frame:
+    // Per iteration k ([0], [1]: shared memory), since a template runs at most once per frame:
     // [k][0] transient -> output, [k][1] output -> transient.
     uint32_t atrous[kMaxAtrousIterationNum][2] = {};
 };
@@ -219,9 +221,10 @@ public:
                     "RELAX - Specular history fix and clamping", fix);
                 for (int d = 0; d < 2; d++)
                 {
-                    chain.atrous[0][d] = builder.AddDispatch<passes::Relax_Specular_AtrousSmem>(
-                        "RELAX - Specular a-trous (shared memory)", d == 0 ? toOutput : toTransient);
-                    for (uint32_t k = 1; k < kMaxAtrousIterationNum; k++)
+                    for (uint32_t k = 0; k < kSmemAtrousIterationNum; k++)
+                        chain.atrous[k][d] = builder.AddDispatch<passes::Relax_Specular_AtrousSmem>(
+                            "RELAX - Specular a-trous (shared memory)", d == 0 ? toOutput : toTransient);
+                    for (uint32_t k = kSmemAtrousIterationNum; k < kMaxAtrousIterationNum; k++)
                         chain.atrous[k][d] =
                             builder.AddDispatch<passes::Relax_Specular_Atrous>("RELAX - Specular a-trous", d == 0 ? toOutput : toTransient);
                 }
@@ -236,9 +239,10 @@ public:
                     "RELAX - Diffuse history fix and clamping", fix);
                 for (int d = 0; d < 2; d++)
                 {
-                    chain.atrous[0][d] = builder.AddDispatch<passes::Relax_Diffuse_AtrousSmem>(
-                        "RELAX - Diffuse a-trous (shared memory)", d == 0 ? toOutput : toTransient);
-                    for (uint32_t k = 1; k < kMaxAtrousIterationNum; k++)
+                    for (uint32_t k = 0; k < kSmemAtrousIterationNum; k++)
+                        chain.atrous[k][d] = builder.AddDispatch<passes::Relax_Diffuse_AtrousSmem>(
+                            "RELAX - Diffuse a-trous (shared memory)", d == 0 ? toOutput : toTransient);
+                    for (uint32_t k = kSmemAtrousIterationNum; k < kMaxAtrousIterationNum; k++)
                         chain.atrous[k][d] =
                             builder.AddDispatch<passes::Relax_Diffuse_Atrous>("RELAX - Diffuse a-trous", d == 0 ? toOutput : toTransient);
                 }

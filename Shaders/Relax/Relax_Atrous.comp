@@ -23,84 +23,90 @@
 #define RELAX_ATROUS_SMEM 0
 #endif
 
+// A tap as the stoppers need it, decoded once per texel.
 struct Tap
 {
     vec4 radianceVariance;
-    RelaxSurface surface;
+    vec3 Nw;          // World-space normal.
+    float luminance;  // Of .rgb of radianceVariance.
+    vec3 X;           // View-space position.
+    float roughness;  // Linear roughness; -1: no surface (sky or outside the image).
 };
 
-#if RELAX_ATROUS_SMEM
-// Step 1: the group's 8x8 pixels and a border of 2 live in shared memory.
-#define BORDER 2
-#define REGION (RELAX_TILE_SIZE + 2 * BORDER)
-shared vec4 sRadianceVariance[REGION * REGION];
-shared vec4 sNormalZ[REGION * REGION];   // World-space normal, viewZ (0: sky or outside).
-shared float sRoughness[REGION * REGION];
-
-void Preload()
+Tap DecodeTap(ivec2 p)
 {
-    ivec2 base = ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - BORDER;
-    for (uint i = gl_LocalInvocationIndex; i < REGION * REGION; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
+    RelaxSurface s = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
+    Tap t;
+    t.Nw = s.Nw;
+    t.X = s.X;
+    t.roughness = s.z == 0.0 ? -1.0 : s.roughness;
+    t.radianceVariance = s.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
+    t.luminance = _NRD_Luminance(t.radianceVariance.rgb);
+    return t;
+}
+
+#if RELAX_ATROUS_SMEM
+// Steps 1 and 2: the group's 8x8 pixels and a border of 2 * step live in shared memory, each texel
+// decoded once (viewZ, normal and position, luminance) for the up to 25 taps and 9 variance taps
+// that read it.
+#define MAX_BORDER 4
+#define MAX_REGION (RELAX_TILE_SIZE + 2 * MAX_BORDER)
+shared vec4 sRadianceVariance[MAX_REGION * MAX_REGION];
+shared vec4 sNormalLuminance[MAX_REGION * MAX_REGION];
+shared vec4 sPositionRoughness[MAX_REGION * MAX_REGION];
+int gRegion;   // 8 + 4 * step texels per row.
+ivec2 gOrigin; // Pixel of the region's first texel.
+
+void Preload(int step)
+{
+    gRegion = RELAX_TILE_SIZE + 4 * step;
+    gOrigin = ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - 2 * step;
+    for (int i = int(gl_LocalInvocationIndex); i < gRegion * gRegion; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
     {
-        ivec2 p = base + ivec2(i % REGION, i / REGION);
-        RelaxSurface s = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
-        sNormalZ[i] = vec4(s.Nw, s.z);
-        sRoughness[i] = s.roughness;
-        sRadianceVariance[i] = s.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
+        Tap t = DecodeTap(gOrigin + ivec2(i % gRegion, i / gRegion));
+        sRadianceVariance[i] = t.radianceVariance;
+        sNormalLuminance[i] = vec4(t.Nw, t.luminance);
+        sPositionRoughness[i] = vec4(t.X, t.roughness);
     }
     barrier();
 }
 
+// Every tap of a pixel of the group lies within the region (taps at most 2 * step away).
+int RegionIndex(ivec2 p)
+{
+    ivec2 local = p - gOrigin;
+    return local.y * gRegion + local.x;
+}
+
 Tap LoadTap(ivec2 p)
 {
-    ivec2 local = p - (ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - BORDER);
+    int i = RegionIndex(p);
     Tap t;
-    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, ivec2(REGION))))
-    {
-        // Outside the preloaded region (cannot happen with step 1 and taps within BORDER): no tap.
-        t.surface.N = vec3(0.0, 0.0, 1.0);
-        t.surface.Nw = vec3(0.0, 0.0, 1.0);
-        t.surface.z = 0.0;
-        t.surface.X = vec3(0.0);
-        t.surface.roughness = 1.0;
-        t.radianceVariance = vec4(0.0);
-        return t;
-    }
-    int i = local.y * REGION + local.x;
-    vec4 nz = sNormalZ[i];
-    t.surface.N = vec3(0.0, 0.0, 1.0);
-    t.surface.Nw = nz.xyz;
-    t.surface.z = nz.w;
-    t.surface.X = nz.w == 0.0 ? vec3(0.0) : _NRD_ViewPosition(_NRD_PixelUv(p), nz.w);
-    t.surface.roughness = sRoughness[i];
     t.radianceVariance = sRadianceVariance[i];
+    vec4 nl = sNormalLuminance[i];
+    t.Nw = nl.xyz;
+    t.luminance = nl.w;
+    vec4 xr = sPositionRoughness[i];
+    t.X = xr.xyz;
+    t.roughness = xr.w;
     return t;
 }
 
-// viewZ (0: no surface) and variance of a tap, for the variance prefilter.
-vec2 LoadDepthVariance(ivec2 p)
+// Whether a tap holds a surface, and its variance, for the variance prefilter.
+vec2 LoadSurfaceVariance(ivec2 p)
 {
-    ivec2 local = p - (ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - BORDER);
-    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, ivec2(REGION))))
-        return vec2(0.0);
-    int i = local.y * REGION + local.x;
-    return vec2(sNormalZ[i].w, sRadianceVariance[i].w);
+    int i = RegionIndex(p);
+    return vec2(sPositionRoughness[i].w, sRadianceVariance[i].w);
 }
 #else
-Tap LoadTap(ivec2 p)
-{
-    Tap t;
-    t.surface = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
-    t.radianceVariance = t.surface.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
-    return t;
-}
+Tap LoadTap(ivec2 p) { return DecodeTap(p); }
 
-vec2 LoadDepthVariance(ivec2 p)
+vec2 LoadSurfaceVariance(ivec2 p)
 {
     if (!Relax_IsInImage(p))
-        return vec2(0.0);
+        return vec2(-1.0, 0.0);
     float z = texelFetch(gIn_ViewZ, p, 0).x;
-    return _NRD_IsSky(z) ? vec2(0.0) : vec2(z, texelFetch(gIn_RadianceVariance, p, 0).w);
+    return _NRD_IsSky(z) ? vec2(-1.0, 0.0) : vec2(0.0, texelFetch(gIn_RadianceVariance, p, 0).w);
 }
 #endif
 
@@ -109,16 +115,15 @@ void main()
     if (Relax_IsTileSkipped(gIn_Tiles))
         return;
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
-#if RELAX_ATROUS_SMEM
-    Preload();
-    const int step = 1;
-#else
     const int step = int(gAtrousStep);
+#if RELAX_ATROUS_SMEM
+    Preload(step);
 #endif
     Tap c = LoadTap(pixel);
-    if (c.surface.z == 0.0)
+    if (c.roughness < 0.0)
         return;
-    c.surface.N = Relax_ViewNormal(c.surface.Nw); // The tangent plane's normal.
+    vec3 N = Relax_ViewNormal(c.Nw); // The tangent plane's normal.
+    float z = c.X.z * gViewZSign;
     bool isLast = (gFlags & RELAX_FLAG_LAST_ATROUS) != 0u;
 
     // Variance prefiltered with a 3x3 Gaussian (1/4, 1/8, 1/16) of the neighbours on a surface.
@@ -126,28 +131,31 @@ void main()
     for (int j = -1; j <= 1; j++)
         for (int i = -1; i <= 1; i++)
         {
-            vec2 zv = LoadDepthVariance(pixel + ivec2(i, j) * step);
+            vec2 sv = LoadSurfaceVariance(pixel + ivec2(i, j) * step);
             float k = (i == 0 ? 0.5 : 0.25) * (j == 0 ? 0.5 : 0.25);
-            if (zv.x == 0.0)
+            if (sv.x < 0.0)
                 continue;
-            variance += k * zv.y;
+            variance += k * sv.y;
             varianceWeight += k;
         }
     variance /= varianceWeight;
 
 #if RELAX_SPECULAR
-    float lobe = Relax_LobeHalfAngle(c.surface.roughness);
+    float lobe = Relax_LobeHalfAngle(c.roughness);
+    bool roughnessStop = (gFlags & RELAX_FLAG_ROUGHNESS_STOP) != 0u;
+    float roughnessScale = 1.0 / (gRoughnessFraction * c.roughness + 0.01);
 #else
     float lobe = Relax_LobeHalfAngle(1.0);
 #endif
-    float maxAngle = gLobeAngleFraction * lobe + gLobeAngleSlack;
-    float lumaCenter = _NRD_Luminance(c.radianceVariance.rgb);
+    // The stoppers of Relax_Common.glsl with their divisions hoisted out of the loop.
+    float angleScale = 1.0 / (gLobeAngleFraction * lobe + gLobeAngleSlack);
+    float planeScale = 1.0 / (gDepthThreshold * z);
     float lumaScale = 1.0 / (gPhiLuminance * sqrt(max(variance, 0.0)) + 1e-6);
     const float kKernel[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
 
     vec3 sum = vec3(0.0);
     float varianceSum = 0.0, weightSum = 0.0, hitSum = 0.0;
-    // Plain loops: unrolled, the 25 surface loads make the shader several times larger to compile.
+    // Plain loops: unrolled, the 25 tap loads make the shader several times larger to compile.
     for (int j = -2; j <= 2; j++)
         for (int i = -2; i <= 2; i++)
         {
@@ -162,15 +170,15 @@ void main()
             else
             {
                 t = LoadTap(q);
-                if (t.surface.z == 0.0)
+                if (t.roughness < 0.0)
                     continue;
-                w = Relax_NormalWeight(c.surface.Nw, t.surface.Nw, maxAngle);
-                w *= Relax_PlaneWeight(c.surface, t.surface.X, gDepthThreshold);
+                w = clamp(1.0 - acos(clamp(dot(c.Nw, t.Nw), -1.0, 1.0)) * angleScale, 0.0, 1.0);
+                w *= clamp(1.0 - abs(dot(N, t.X - c.X)) * planeScale, 0.0, 1.0);
 #if RELAX_SPECULAR
-                if ((gFlags & RELAX_FLAG_ROUGHNESS_STOP) != 0u)
-                    w *= Relax_RoughnessWeight(c.surface.roughness, t.surface.roughness, gRoughnessFraction);
+                if (roughnessStop)
+                    w *= clamp(1.0 - abs(c.roughness - t.roughness) * roughnessScale, 0.0, 1.0);
 #endif
-                w *= exp(-abs(_NRD_Luminance(t.radianceVariance.rgb) - lumaCenter) * lumaScale);
+                w *= exp(-abs(t.luminance - c.luminance) * lumaScale);
             }
             w *= kKernel[abs(i)] * kKernel[abs(j)];
             if (w <= 0.0)

@@ -1,5 +1,5 @@
 // RELAX: one edge-stopping a-trous iteration (5x5 B3-spline taps gAtrousStep pixels apart). The first
-// iteration of a frame reads its taps from shared memory (RELAX_ATROUS_SMEM, step 1).
+// two iterations of a frame (steps 1 and 2) read their taps from shared memory (RELAX_ATROUS_SMEM).
 #if RELAX_SPECULAR && RELAX_ATROUS_SMEM
 NRD_PASS_BEGIN(Relax_Specular_AtrousSmem, 8, 8)
 #elif RELAX_SPECULAR
