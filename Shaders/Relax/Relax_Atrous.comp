@@ -19,10 +19,6 @@
 #include "CommonFrame.glsl"
 #include "Relax_Common.glsl"
 
-#ifndef RELAX_ATROUS_SMEM
-#define RELAX_ATROUS_SMEM 0
-#endif
-
 // A tap as the stoppers need it, decoded once per texel.
 struct Tap
 {
@@ -33,54 +29,49 @@ struct Tap
     float roughness;  // Linear roughness; -1: no surface (sky or outside the image).
 };
 
-Tap DecodeTap(ivec2 p)
-{
-    RelaxSurface s = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
-    Tap t;
-    t.Nw = s.Nw;
-    t.X = s.X;
-    t.roughness = s.z == 0.0 ? -1.0 : s.roughness;
-    t.radianceVariance = s.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
-    t.luminance = _NRD_Luminance(t.radianceVariance.rgb);
-    return t;
-}
+// Every iteration reads its taps from shared memory. A group holds 8x8 pixels gAtrousStep apart
+// (a strided tile): the image is cut into blocks of 8 * step pixels, each holding step x step such
+// tiles, one per offset within a step. The taps of its pixels are then the texels of the same
+// lattice, 2 * step around it: (8 + 4) x (8 + 4) texels, each decoded once (viewZ, normal and
+// position, luminance) for the up to 25 taps and 9 variance taps that read it.
+#define BORDER 2
+#define REGION (RELAX_TILE_SIZE + 2 * BORDER)
+shared vec4 sRadianceVariance[REGION * REGION];
+shared vec4 sNormalLuminance[REGION * REGION];
+shared vec4 sPositionRoughness[REGION * REGION];
 
-#if RELAX_ATROUS_SMEM
-// Steps 1 and 2: the group's 8x8 pixels and a border of 2 * step live in shared memory, each texel
-// decoded once (viewZ, normal and position, luminance) for the up to 25 taps and 9 variance taps
-// that read it.
-#define MAX_BORDER 4
-#define MAX_REGION (RELAX_TILE_SIZE + 2 * MAX_BORDER)
-shared vec4 sRadianceVariance[MAX_REGION * MAX_REGION];
-shared vec4 sNormalLuminance[MAX_REGION * MAX_REGION];
-shared vec4 sPositionRoughness[MAX_REGION * MAX_REGION];
-int gRegion;   // 8 + 4 * step texels per row.
-ivec2 gOrigin; // Pixel of the region's first texel.
+// Pixel of the strided tile's texel 'lattice' (the group's pixels at [0, 8)).
+ivec2 LatticePixel(ivec2 lattice, int step)
+{
+    ivec2 group = ivec2(gl_WorkGroupID.xy);
+    ivec2 block = group / step, offset = group - block * step;
+    return block * (RELAX_TILE_SIZE * step) + offset + lattice * step;
+}
 
 void Preload(int step)
 {
-    gRegion = RELAX_TILE_SIZE + 4 * step;
-    gOrigin = ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - 2 * step;
-    for (int i = int(gl_LocalInvocationIndex); i < gRegion * gRegion; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
+    for (int i = int(gl_LocalInvocationIndex); i < REGION * REGION; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
     {
-        Tap t = DecodeTap(gOrigin + ivec2(i % gRegion, i / gRegion));
-        sRadianceVariance[i] = t.radianceVariance;
-        sNormalLuminance[i] = vec4(t.Nw, t.luminance);
-        sPositionRoughness[i] = vec4(t.X, t.roughness);
+        ivec2 p = LatticePixel(ivec2(i % REGION, i / REGION) - BORDER, step);
+        RelaxSurface s = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
+        vec4 radianceVariance = s.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
+        sRadianceVariance[i] = radianceVariance;
+        sNormalLuminance[i] = vec4(s.Nw, _NRD_Luminance(radianceVariance.rgb));
+        sPositionRoughness[i] = vec4(s.X, s.z == 0.0 ? -1.0 : s.roughness);
     }
     barrier();
 }
 
-// Every tap of a pixel of the group lies within the region (taps at most 2 * step away).
-int RegionIndex(ivec2 p)
+// The tap 'offset' steps from this invocation's pixel.
+int RegionIndex(ivec2 offset)
 {
-    ivec2 local = p - gOrigin;
-    return local.y * gRegion + local.x;
+    ivec2 local = ivec2(gl_LocalInvocationID.xy) + BORDER + offset;
+    return local.y * REGION + local.x;
 }
 
-Tap LoadTap(ivec2 p)
+Tap LoadTap(ivec2 offset)
 {
-    int i = RegionIndex(p);
+    int i = RegionIndex(offset);
     Tap t;
     t.radianceVariance = sRadianceVariance[i];
     vec4 nl = sNormalLuminance[i];
@@ -92,34 +83,16 @@ Tap LoadTap(ivec2 p)
     return t;
 }
 
-// Whether a tap holds a surface, and its variance, for the variance prefilter.
-vec2 LoadSurfaceVariance(ivec2 p)
-{
-    int i = RegionIndex(p);
-    return vec2(sPositionRoughness[i].w, sRadianceVariance[i].w);
-}
-#else
-Tap LoadTap(ivec2 p) { return DecodeTap(p); }
-
-vec2 LoadSurfaceVariance(ivec2 p)
-{
-    if (!Relax_IsInImage(p))
-        return vec2(-1.0, 0.0);
-    float z = texelFetch(gIn_ViewZ, p, 0).x;
-    return _NRD_IsSky(z) ? vec2(-1.0, 0.0) : vec2(0.0, texelFetch(gIn_RadianceVariance, p, 0).w);
-}
-#endif
-
 void main()
 {
-    if (Relax_IsTileSkipped(gIn_Tiles))
-        return;
-    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     const int step = int(gAtrousStep);
-#if RELAX_ATROUS_SMEM
+    // Step 1: the group is a tile of the sky map. Larger steps: its pixels lie in step x step tiles,
+    // and sky pixels return below.
+    if (step == 1 && Relax_IsTileSkipped(gIn_Tiles))
+        return;
+    ivec2 pixel = LatticePixel(ivec2(gl_LocalInvocationID.xy), step);
     Preload(step);
-#endif
-    Tap c = LoadTap(pixel);
+    Tap c = LoadTap(ivec2(0));
     if (c.roughness < 0.0)
         return;
     vec3 N = Relax_ViewNormal(c.Nw); // The tangent plane's normal.
@@ -131,11 +104,11 @@ void main()
     for (int j = -1; j <= 1; j++)
         for (int i = -1; i <= 1; i++)
         {
-            vec2 sv = LoadSurfaceVariance(pixel + ivec2(i, j) * step);
+            int t = RegionIndex(ivec2(i, j));
             float k = (i == 0 ? 0.5 : 0.25) * (j == 0 ? 0.5 : 0.25);
-            if (sv.x < 0.0)
+            if (sPositionRoughness[t].w < 0.0)
                 continue;
-            variance += k * sv.y;
+            variance += k * sRadianceVariance[t].w;
             varianceWeight += k;
         }
     variance /= varianceWeight;
@@ -169,7 +142,7 @@ void main()
             }
             else
             {
-                t = LoadTap(q);
+                t = LoadTap(ivec2(i, j));
                 if (t.roughness < 0.0)
                     continue;
                 w = clamp(1.0 - acos(clamp(dot(c.Nw, t.Nw), -1.0, 1.0)) * angleScale, 0.0, 1.0);
