@@ -13,7 +13,9 @@
 //   1 / (n + 1), n = min(history length, gMaxAccumulatedFrameNum); fast history: radiance with
 //   n = min(history length, gMaxFastAccumulatedFrameNum);
 // - the fast history is clamped to this frame's 3x3 input neighbourhood before it is blended;
-// - diffuse: both histories' 5x5 means are kept near this frame's input mean (mean clamp);
+// - diffuse: both histories' 5x5 means are kept near this frame's input mean (mean clamp); with a
+//   confidence input, the nearer the lower the confidence (specular: only where the confidence cut
+//   a long history);
 // - history that is not finite restarts;
 // - anti-lag (optional): a 5x5 box mean of this frame's input luminance far from the same box of the
 //   previous fast history (beyond gAntilagSigma standard deviations of the difference) shortens both
@@ -21,7 +23,8 @@
 // - specular: the history of glossy surfaces is shortened by the parallax between the surface and
 //   virtual reprojections, n <= max / (1 + parallax in pixels * (1 - roughness)^2);
 // - optional confidence input: the history length is multiplied by it, to no less than
-//   NRD_CONFIDENCE_MIN_HISTORY frames (what it takes is kept as a debt that keeps the history fix away);
+//   NRD_CONFIDENCE_MIN_HISTORY frames (what it takes is kept as a debt that keeps the history fix away),
+//   and the mean clamp moves the frames kept to this frame's lighting;
 // - checkerboard: pixels not traced this frame take the mean of their traced 4-neighbours on the
 //   same surface when they have no history, else keep the history unchanged.
 #include "Bindings.glsl"
@@ -255,6 +258,7 @@ void main()
     // in view, this frame's sample and the clamped history are better than the history fix's wide
     // average of neighbours whose histories were cut as well (toggling_light). Carried with the
     // history, lost with it on disocclusion; 0 without the confidence input.
+    float lengthBeforeCut = prevLength;
 #if RELAX_CONFIDENCE
     float confidence = clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
     float kept = _NRD_ConfidenceHistoryLength(prevLength, confidence);
@@ -280,15 +284,31 @@ void main()
     //   the two means allows (RELAX_MEAN_CLAMP_SIGMA standard deviations, from the temporal variance
     //   of one sample, plus 2%) is shifted by the excess, keeping its own detail, so that a lighting
     //   change is followed within frames; the test is on means, with a variance that does not depend
-    //   on this frame's samples, so still history is moved up as often as down (no darkening).
-    //   Specular does not: its heavy tail would spread single bright samples over the 5x5 history;
+    //   on this frame's samples, so still history is moved up as often as down (no darkening). With a
+    //   confidence input the allowed distance is multiplied by the confidence (0: the means are made
+    //   equal), so the frames kept where the lighting changed take this frame's level;
+    // - specular has no mean clamp without a confidence input: its heavy tail would spread single
+    //   bright samples over the 5x5 history. With one, it is clamped as diffuse (distance times the
+    //   confidence) by (1 - confidence)^2 of the excess, only where the confidence cut a history
+    //   longer than twice NRD_CONFIDENCE_MIN_HISTORY: there the frames kept hold the old lighting for
+    //   many frames (n kept frames are n / (n + k) of the history k frames later: light_switch's lamp).
+    //   Each shift carries the noise of this frame's 5x5 mean into the history, so it runs once per
+    //   change, not on every frame of a light that moves every frame (moving_light, whose histories
+    //   stay near the frames kept);
     // - anti-lag (optional, gAntilagSigma > 0): a mean beyond gAntilagSigma of the same noise
     //   shortens both histories.
-#if RELAX_SPECULAR
-    if (hasHistory && hasSample && gAntilagSigma > 0.0)
+#if RELAX_SPECULAR && RELAX_CONFIDENCE
+    float clampAmount = lengthBeforeCut > 2.0 * NRD_CONFIDENCE_MIN_HISTORY + 0.5 ? (1.0 - confidence) * (1.0 - confidence) : 0.0;
+    float clampScale = confidence;
+#elif RELAX_SPECULAR
+    float clampAmount = 0.0, clampScale = 1.0;
+#elif RELAX_CONFIDENCE
+    float clampAmount = 1.0, clampScale = confidence;
 #else
-    if (hasHistory && hasSample)
+    float clampAmount = 1.0, clampScale = 1.0;
 #endif
+    bool meanClamp = clampAmount > 0.0;
+    if (hasHistory && hasSample && (meanClamp || gAntilagSigma > 0.0))
     {
         ivec2 prevCenter = ivec2(floor(uvPrev * vec2(gResourceSize)));
         vec3 sumIn = vec3(0.0), sumFast = vec3(0.0), sumSlow = vec3(0.0);
@@ -331,16 +351,18 @@ void main()
             float slowLuma = _NRD_Luminance(prevSlow.rgb);
 
             float dFast = abs(lIn - lFast), dSlow = abs(lIn - lSlow);
-#if !RELAX_SPECULAR
-            float thresholdFast = RELAX_MEAN_CLAMP_SIGMA * sigmaFast, thresholdSlow = RELAX_MEAN_CLAMP_SIGMA * sigmaSlow;
-            if (dFast > thresholdFast)
-                prevFast.rgb = max(prevFast.rgb + (meanIn - meanFast) * (1.0 - thresholdFast / dFast), vec3(0.0));
-            if (dSlow > thresholdSlow)
-                prevSlow.rgb = max(prevSlow.rgb + (meanIn - meanSlow) * (1.0 - thresholdSlow / dSlow), vec3(0.0));
-            // The second moment moves with the mean (same variance).
-            float slowLumaNew = _NRD_Luminance(prevSlow.rgb);
-            prevFast.w = sqrt(max(prevFast.w * prevFast.w + slowLumaNew * slowLumaNew - slowLuma * slowLuma, slowLumaNew * slowLumaNew));
-#endif
+            if (meanClamp)
+            {
+                float thresholdFast = RELAX_MEAN_CLAMP_SIGMA * clampScale * sigmaFast;
+                float thresholdSlow = RELAX_MEAN_CLAMP_SIGMA * clampScale * sigmaSlow;
+                if (dFast > thresholdFast)
+                    prevFast.rgb = max(prevFast.rgb + (meanIn - meanFast) * (clampAmount * (1.0 - thresholdFast / dFast)), vec3(0.0));
+                if (dSlow > thresholdSlow)
+                    prevSlow.rgb = max(prevSlow.rgb + (meanIn - meanSlow) * (clampAmount * (1.0 - thresholdSlow / dSlow)), vec3(0.0));
+                // The second moment moves with the mean (same variance).
+                float slowLumaNew = _NRD_Luminance(prevSlow.rgb);
+                prevFast.w = sqrt(max(prevFast.w * prevFast.w + slowLumaNew * slowLumaNew - slowLuma * slowLuma, slowLumaNew * slowLumaNew));
+            }
 
             if (gAntilagSigma > 0.0)
             {
