@@ -217,9 +217,16 @@ struct ReblurSettings
     // trades the last bit of noise for blur of thin features and contact shadows.
     float minBlurRadius = 0.0f;
 
-    // Spatial pre-pass radius in pixels before temporal accumulation, [0, REBLUR_MAX_BLUR_RADIUS];
-    // 0 skips the pre-pass. Helps at 0.5 ray per pixel (checkerboard) and with very noisy input.
-    float prePassBlurRadius = 0.0f;
+    // Spatial pre-pass radius in pixels before temporal accumulation, per signal,
+    // [0, REBLUR_MAX_BLUR_RADIUS]; 0 skips the pre-pass. Specular radiance: 4 filters the heavy-tailed
+    // samples before the fast history and the anti-lag see them (static 64x64: relMSE -17%;
+    // checkerboard input 1.27x the full-rate relMSE instead of 1.45x). Diffuse radiance: off (its
+    // contact shadows and corners lose more to the blur than the noise it removes). The occlusion
+    // variants (hit distance only, both signals): off (static 64x64 specular occlusion: ratio to the
+    // input 16.7 without, 13.9 with a radius of 4).
+    float diffusePrePassBlurRadius = 0.0f;
+    float specularPrePassBlurRadius = 4.0f;
+    float occlusionPrePassBlurRadius = 0.0f;
 
     // Post-blur radius relative to the blur radius, [0, 2].
     float postBlurRadiusScale = 0.5f;

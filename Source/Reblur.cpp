@@ -6,7 +6,7 @@
 //   1. Classify tiles        16x16 tiles with something to denoise (others are skipped by every
 //                            pass); this frame's viewZ stored for the next (fp16, ping-pong).
 //   per signal (diffuse, then specular):
-//   2. Pre-pass (optional)   small spatial blur of the input (prePassBlurRadius > 0).
+//   2. Pre-pass (optional)   small spatial blur of the input (diffuse / specular / occlusionPrePassBlurRadius > 0).
 //   3. Temporal accumulation slow + fast history along surface motion (specular: and virtual
 //                            motion), anti-lag, confidence, checkerboard.
 //   4. History fix           wide sparse reconstruction of short histories, anti-firefly.
@@ -139,7 +139,9 @@ Result ValidateReblurSettings(const ReblurSettings& s, const Logger& log)
         {"historyFixStride", s.historyFixStride, 1.0f, 16.0f, false},
         {"blurRadius", s.blurRadius, 0.0f, REBLUR_MAX_BLUR_RADIUS, false},
         {"minBlurRadius", s.minBlurRadius, 0.0f, s.blurRadius, false},
-        {"prePassBlurRadius", s.prePassBlurRadius, 0.0f, REBLUR_MAX_BLUR_RADIUS, false},
+        {"diffusePrePassBlurRadius", s.diffusePrePassBlurRadius, 0.0f, REBLUR_MAX_BLUR_RADIUS, false},
+        {"specularPrePassBlurRadius", s.specularPrePassBlurRadius, 0.0f, REBLUR_MAX_BLUR_RADIUS, false},
+        {"occlusionPrePassBlurRadius", s.occlusionPrePassBlurRadius, 0.0f, REBLUR_MAX_BLUR_RADIUS, false},
         {"postBlurRadiusScale", s.postBlurRadiusScale, 0.0f, 2.0f, false},
         {"planeDistanceSensitivity", s.planeDistanceSensitivity, 0.0f, 1.0f, true},
         {"lobeAngleFraction", s.lobeAngleFraction, 0.0f, 4.0f, true},
@@ -192,6 +194,7 @@ public:
                                  method == Method::REBLUR_SPECULAR_OCCLUSION ||
                                  method == Method::REBLUR_DIFFUSE_SPECULAR_OCCLUSION;
 
+        m_IsOcclusion = isOcclusion;
         const ResourceRef viewZ = App(ResourceType::IN_VIEWZ);
         for (int i = 0; i < 2; i++)
             m_ViewZ[i] = builder.AddPermanentTexture(Format::R16_SFLOAT);
@@ -261,9 +264,7 @@ public:
         c.gStabilizationFrameNum = float(s.maxStabilizedFrameNum);
         c.gColorCompression = s.colorCompression;
         c.gFireflyScale = s.antiFireflySigma;
-        const bool isPrePass = s.prePassBlurRadius > 0.0f && !s.forceReferenceAccumulation;
-        c.gFlags = (isPrePass ? kFlagPrePass : 0u) | (s.forceReferenceAccumulation ? kFlagReference : 0u) |
-                   (s.isConfidenceInput ? kFlagConfidence : 0u);
+        c.gFlags = (s.forceReferenceAccumulation ? kFlagReference : 0u) | (s.isConfidenceInput ? kFlagConfidence : 0u);
         if (s.checkerboardMode != CheckerboardMode::OFF)
         {
             uint32_t parity = (frame.common.frameIndex + (s.checkerboardMode == CheckerboardMode::WHITE ? 1u : 0u)) & 1u;
@@ -276,14 +277,19 @@ public:
         {
             const Chain& chain = m_Chains[i];
             Constants p = c;
+            const float prePassRadius = m_IsOcclusion     ? s.occlusionPrePassBlurRadius
+                                        : chain.isSpecular ? s.specularPrePassBlurRadius
+                                                           : s.diffusePrePassBlurRadius;
+            const bool isPrePass = prePassRadius > 0.0f && !s.forceReferenceAccumulation;
             if (isPrePass)
             {
                 p.gPassIndex = 0;
-                p.gBlurRadius = s.prePassBlurRadius; // Absolute: history length reads as 0 there.
+                p.gBlurRadius = prePassRadius; // Absolute: history length reads as 0 there.
                 p.gPassRadiusScale = 1.0f;
                 context.Dispatch(chain.prePass, p, w, h2);
             }
             p = c;
+            p.gFlags |= isPrePass ? kFlagPrePass : 0u;
             context.Dispatch(chain.temporal[m_Parity][s.isConfidenceInput ? 1 : 0], p, w, h2);
             context.Dispatch(chain.historyFix, p, w, h2);
             p.gPassIndex = 1;
@@ -376,6 +382,7 @@ private:
     uint32_t m_ChainsNum = 0;
     uint32_t m_Parity = 0;
     bool m_WasReference = false;
+    bool m_IsOcclusion = false;
 };
 
 } // namespace

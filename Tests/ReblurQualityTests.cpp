@@ -11,8 +11,8 @@
 // bar yet are in kShortfalls, with their measured figures (5% margin) so that they can only
 // improve; move a line out of the table when it meets the bar.
 // Also: forceReferenceAccumulation converges like the REFERENCE method, the occlusion outputs lie
-// in [0, 1], and checkerboard input stays within its measured factor of the full-rate error (the
-// bar, 1.5x, is not met yet).
+// in [0, 1], and checkerboard input stays within 1.5x of the full-rate error (specular; diffuse
+// within its measured factor, the bar is not met yet).
 #include <catch2/catch.hpp>
 
 #include "MethodRunner.h"
@@ -199,9 +199,9 @@ TEST_CASE("REBLUR with checkerboard input stays within its measured factor of th
         std::printf("REBLUR %s checkerboard relMSE %.5f, full rate %.5f\n", signal, half.mean.relmseDenoised,
                     full.mean.relmseDenoised);
         INFO(signal);
-        // Not met yet: measured 1.52x (diffuse) and 1.59x (specular) the full-rate error, pinned
-        // 5% above; the bar is 1.5x (Shaders/Reblur/README.md).
-        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 1.59 : 1.67) * full.mean.relmseDenoised);
+        // The bar is 1.5x. Specular meets it (1.32x, with its default pre-pass); diffuse does not
+        // yet: measured 1.52x, pinned 5% above (Shaders/Reblur/README.md).
+        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 1.59 : 1.5) * full.mean.relmseDenoised);
     }
 }
 

@@ -105,7 +105,9 @@ TEST_CASE("ReblurSettings outside their ranges are rejected", "[api][reblur]")
         [](ReblurSettings& s) { s.blurRadius = REBLUR_MAX_BLUR_RADIUS * 1.01f; },
         [](ReblurSettings& s) { s.blurRadius = kNaN; },
         [](ReblurSettings& s) { s.minBlurRadius = s.blurRadius + 1.0f; },
-        [](ReblurSettings& s) { s.prePassBlurRadius = -1.0f; },
+        [](ReblurSettings& s) { s.diffusePrePassBlurRadius = -1.0f; },
+        [](ReblurSettings& s) { s.specularPrePassBlurRadius = REBLUR_MAX_BLUR_RADIUS + 1.0f; },
+        [](ReblurSettings& s) { s.occlusionPrePassBlurRadius = kNaN; },
         [](ReblurSettings& s) { s.postBlurRadiusScale = 2.5f; },
         [](ReblurSettings& s) { s.planeDistanceSensitivity = 0.0f; },
         [](ReblurSettings& s) { s.lobeAngleFraction = 0.0f; },
@@ -128,7 +130,9 @@ TEST_CASE("ReblurSettings outside their ranges are rejected", "[api][reblur]")
     limits.historyFixFrameNum = 0;
     limits.blurRadius = REBLUR_MAX_BLUR_RADIUS;
     limits.minBlurRadius = REBLUR_MAX_BLUR_RADIUS;
-    limits.prePassBlurRadius = REBLUR_MAX_BLUR_RADIUS;
+    limits.diffusePrePassBlurRadius = REBLUR_MAX_BLUR_RADIUS;
+    limits.specularPrePassBlurRadius = 0.0f;
+    limits.occlusionPrePassBlurRadius = REBLUR_MAX_BLUR_RADIUS;
     limits.maxStabilizedFrameNum = 0;
     limits.checkerboardMode = CheckerboardMode::WHITE;
     CHECK(SetMethodSettings(*d.denoiser, kId, limits) == Result::SUCCESS);
@@ -137,24 +141,30 @@ TEST_CASE("ReblurSettings outside their ranges are rejected", "[api][reblur]")
 TEST_CASE("REBLUR dispatches one classification and five passes per signal, six with the pre-pass", "[api][reblur]")
 {
     {
+        // Defaults: the specular pre-pass runs, the diffuse one does not.
         CoreDenoiser d(Method::REBLUR_DIFFUSE_SPECULAR);
         std::vector<std::string> names = DispatchNames(*d.denoiser);
         const std::vector<std::string> expected = {
             "REBLUR - Classify tiles",
             "REBLUR diffuse - Temporal accumulation", "REBLUR diffuse - History fix", "REBLUR diffuse - Blur",
             "REBLUR diffuse - Post-blur", "REBLUR diffuse - Temporal stabilization",
-            "REBLUR specular - Temporal accumulation", "REBLUR specular - History fix", "REBLUR specular - Blur",
-            "REBLUR specular - Post-blur", "REBLUR specular - Temporal stabilization"};
+            "REBLUR specular - Pre-pass", "REBLUR specular - Temporal accumulation", "REBLUR specular - History fix",
+            "REBLUR specular - Blur", "REBLUR specular - Post-blur", "REBLUR specular - Temporal stabilization"};
         CHECK(names == expected);
     }
     {
+        // The occlusion variants take occlusionPrePassBlurRadius (default 0), not the specular one.
         CoreDenoiser d(Method::REBLUR_SPECULAR_OCCLUSION);
+        CHECK(DispatchNames(*d.denoiser).size() == 6);
+    }
+    {
+        CoreDenoiser d(Method::REBLUR_DIFFUSE_OCCLUSION);
         ReblurSettings s;
-        s.prePassBlurRadius = 8.0f;
+        s.occlusionPrePassBlurRadius = 8.0f;
         REQUIRE(SetMethodSettings(*d.denoiser, kId, s) == Result::SUCCESS);
         std::vector<std::string> names = DispatchNames(*d.denoiser);
         REQUIRE(names.size() == 7);
-        CHECK(names[1] == "REBLUR specular - Pre-pass");
+        CHECK(names[1] == "REBLUR diffuse - Pre-pass");
     }
 }
 

@@ -49,7 +49,9 @@ public:
         ReadSetting(s, "historyFixStride", r.historyFixStride);
         ReadSetting(s, "blurRadius", r.blurRadius);
         ReadSetting(s, "minBlurRadius", r.minBlurRadius);
-        ReadSetting(s, "prePassBlurRadius", r.prePassBlurRadius);
+        ReadSetting(s, "diffusePrePassBlurRadius", r.diffusePrePassBlurRadius);
+        ReadSetting(s, "specularPrePassBlurRadius", r.specularPrePassBlurRadius);
+        ReadSetting(s, "occlusionPrePassBlurRadius", r.occlusionPrePassBlurRadius);
         ReadSetting(s, "postBlurRadiusScale", r.postBlurRadiusScale);
         ReadSetting(s, "planeDistanceSensitivity", r.planeDistanceSensitivity);
         ReadSetting(s, "lobeAngleFraction", r.lobeAngleFraction);
