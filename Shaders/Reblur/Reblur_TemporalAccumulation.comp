@@ -257,6 +257,16 @@ void main()
             float target = reference > 1e-4 ? slowLuma * fastNow / reference : slowLuma + fastNow - reference;
             slow = _Reblur_WithLuma(slow, max(mix(target, slowLuma, keep * keep), 0.0));
 #endif
+            // The stabilized luminance follows the same correction: reprojected as it was, it kept
+            // the old lighting for as long as the stabilization's own clamp took to let go of it
+            // (light_switch diffuse, 64x64: +3.0% of the truth's mean on the frame the lamp goes
+            // off, +2.1% with this).
+            float movedLuma = _Reblur_Luma(slow);
+            stabilized = slowLuma > 1e-6 ? stabilized * (movedLuma / slowLuma) : movedLuma;
+#if REBLUR_OCCLUSION
+            stabilized = min(stabilized, 1.0);
+            slow.w = min(slow.w, 1.0);
+#endif
         }
     }
 
