@@ -85,14 +85,15 @@ uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit)
            (isLit ? HISTORY_SAMPLE_BIT : 0u);
 }
 
-// A hard shadow's pixel at 'q' of the previous frame (no resampling) that is lit now after a lit
-// sample there, under dark history: where a shadow edge moved without motion vectors.
-bool IsDeparted(ivec2 q, SIGMA_TYPE currentValue)
+// Whether a hard shadow's pixel at 'q' of the previous frame (no resampling) is lit now under dark
+// history: 0 no, 1 yes, 2 yes and its sample was lit there too (lit for the second frame in a row).
+int DepartureLevel(ivec2 q, SIGMA_TYPE currentValue)
 {
-    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)) || _Sigma_MaxComponent(currentValue) < 0.5)
-        return false;
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)) || _Sigma_MaxComponent(currentValue) < 0.5 ||
+        !(_Sigma_MaxComponent(currentValue - LoadHistory(q)) > HARD_SHADOW_ARRIVAL))
+        return 0;
     uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
-    return (packed & HISTORY_SAMPLE_BIT) != 0u && _Sigma_MaxComponent(currentValue - LoadHistory(q)) > HARD_SHADOW_ARRIVAL;
+    return (packed & HISTORY_SAMPLE_BIT) != 0u ? 2 : 1;
 }
 
 // Marks a pixel without history (sky): its viewZ never matches.
@@ -264,22 +265,29 @@ void main()
         // history: brightness left in the dark is the costly error. One that leaves is only lagged.
         if (isHardShadow && _Sigma_MaxComponent(history - current) > HARD_SHADOW_ARRIVAL)
             antilag = 0.0;
-        // One that leaves (lit under dark history) restarts it too where this pixel and a neighbour
-        // are lit for the second frame in a row, both under dark history: a shadow edge that moved
-        // without motion vectors (a turning light, moving stripes). A still penumbra's noise rarely
-        // gives two such pixels side by side. (The history is not resampled here: the previous
-        // frame's pixels are this frame's.)
+        // One that leaves (lit under dark history) restarts it too where at least three of its eight
+        // neighbours (on a surface) are lit under dark history as well, or where it was lit the frame
+        // before too and so are two neighbours now, or one twice as well. A shadow edge that moved
+        // without motion vectors (a turning light, moving stripes, a light switched on) turns a row
+        // of pixels at once; a still penumbra's noise rarely gives three such pixels side by side.
+        // (The history is not resampled here: the previous frame's pixels are this frame's.)
         if (isHardShadow && historyWeight > 0.999)
         {
             ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
-            if (IsDeparted(q, current))
+            int level = DepartureLevel(q, current);
+            if (level > 0)
             {
-                bool isLine = false;
+                int departed = level - 1;
+                int departed2 = 0;
                 for (int j = -1; j <= 1; j++)
                     for (int i = -1; i <= 1; i++)
                         if ((i != 0 || j != 0) && s_ViewZ[c.y + j][c.x + i] != 0.0)
-                            isLine = isLine || IsDeparted(q + ivec2(i, j), s_Signal[c.y + j][c.x + i]);
-                if (isLine)
+                        {
+                            int l = DepartureLevel(q + ivec2(i, j), s_Signal[c.y + j][c.x + i]);
+                            departed += l > 0 ? 1 : 0;
+                            departed2 += l > 1 ? 1 : 0;
+                        }
+                if (departed >= 3 || (level == 2 && departed2 > 0))
                     antilag = 0.0;
             }
         }
