@@ -99,6 +99,9 @@
 #define TS_MOVED_CONTRADICTIONS 2
 #define TS_MOVED_CONTRADICTIONS_LIT 3
 #define TS_MOVED_LIT_NEIGHBORS 3
+// In a still view, a shadowed pixel with at most this many shadowed neighbours, two of them opposite
+// each other through it, is a thin shadow (see isSharpShadow).
+#define TS_THIN_SHADOW_NEIGHBORS 3
 // Under motion, a pixel with a neighbour whose normal makes a cosine below this with its own (26
 // degrees: a crease, a silhouette, detail finer than a pixel) takes its sample (see isTurned).
 #define TS_TURNED_NORMAL_COS 0.9
@@ -414,9 +417,10 @@ void main()
         vec4 weighted = vec4(0.0);
         float support = 0.0, meanMin = 1.0, meanMax = 0.0;
         float resampling = 0.0; // Blur of the resampling: 0 at texel centres, 0.5 halfway on both axes.
-        uint previousBits = 0u;  // Raw samples of the 4x4 footprint (bit 4 k.y + k.x), valid texels only.
+        // Raw samples of the 4x4 footprint (bit 4 k.y + k.x), valid texels only; bits 16..31: the
+        // texels whose recent samples were all equal (TS_SETTLED; their last raw sample is the settled value).
+        uint previousBits = 0u;
         uint footprintBits = 0u; // Texels of the 4x4 footprint that hold this surface.
-        uint settledBits = 0u;   // Texels of the 4x4 footprint whose recent samples were all equal (TS_SETTLED).
         ivec2 nearestK = ivec2(1);
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
@@ -468,8 +472,7 @@ void main()
                     bool isInner = k.x >= 1 && k.x <= 2 && k.y >= 1 && k.y <= 2;
                     vec3 value = _TS_UnpackHistory(histories[i]);
                     cubic += wx[k.x] * wy[k.y] * value.xy;
-                    // (Then the texel's last raw sample, in previousBits, is the settled value.)
-                    settledBits |= value.z >= TS_SETTLED_SAMPLES && abs(value.y - 0.5) > 0.5 - TS_SETTLED ? 1u << uint(4 * k.y + k.x) : 0u;
+                    previousBits |= value.z >= TS_SETTLED_SAMPLES && abs(value.y - 0.5) > 0.5 - TS_SETTLED ? 0x10000u << uint(4 * k.y + k.x) : 0u;
                     if (isInner && (validBits & (1u << uint(4 * k.y + k.x))) != 0u)
                     {
                         vec4 texelValue = vec4(value, innerLocalMean[(k.x - 1) + 2 * (k.y - 1)]);
@@ -620,7 +623,7 @@ void main()
             flips += float(current ^ previous);
             pairs += 1.0;
             lit += float(current + previous);
-            contradictions += int((current ^ previous) & (settledBits >> uint(t)));
+            contradictions += int((current ^ previous) & (previousBits >> uint(16 + t)));
             if (d == ivec2(0))
                 isCentreUnchanged = current == previous;
         }
@@ -673,6 +676,10 @@ void main()
         // penumbrae are under a pixel wide and a 1-spp shadowed sample is exact).
         // Also, in a still view, where the history calls the shadowed sample nearly impossible
         // (TS_CONTRADICTION): a thin shadow moving without motion vectors over a still surface.
+        // In a still view a one-pixel line of shadow (TS_THIN_SHADOW_NEIGHBORS) counts as sharp too:
+        // its outline is as long as it is, so the 9x9 window changes value about as often as noise of
+        // its mean would (a straight line about 0.64 times, a diagonal one more), and the filter
+        // would wash it out (the legs' shadows of mesh_thin, the slats of venetian_blinds).
         bool isSharpShadow = sample0 == 0.0 &&
                              (isMoving || samples < TS_SPATIAL_BOOST_SAMPLES || (isUnlikely && support < TS_CONTRADICTION * footprint)) &&
                              !IsNoisyPattern(near);
@@ -680,7 +687,7 @@ void main()
         {
             if (structure < 0.0)
                 structure = ChangesRelativeToNoise(local, groupOrigin, isInterior);
-            isSharpShadow = structure < TS_STRUCTURE;
+            isSharpShadow = structure < TS_STRUCTURE || (!isMoving && shadowedNeighbors <= TS_THIN_SHADOW_NEIGHBORS && HasLine(~near));
         }
         // Under motion, next to a neighbour that faces another way (a crease, a silhouette, the small
         // parts of a machine), the resampled history mixes surfaces at nearly the same depth (the
