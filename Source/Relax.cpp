@@ -10,9 +10,8 @@
 //                              clamped to the fast one's 3x3 neighbourhood; writes the histories
 //                              (and, in the last chain, viewZ for the next frame).
 //   4. Variance estimation     temporal moments, 7x7 spatial while the history is short.
-//   5. A-trous                 atrousIterationNum iterations, steps 1, 2, 4, ..., each from shared
-//                              memory (groups of 8x8 pixels 'step' apart); the last writes
-//                              OUT_*_RADIANCE_HITDIST.
+//   5. A-trous                 atrousIterationNum iterations, steps 1, 2, 4, ...; the first from
+//                              shared memory, the last writes OUT_*_RADIANCE_HITDIST.
 //
 // Memory (bytes per pixel): per signal, permanent slow history RGBA16F (radiance, hit distance),
 // fast history RGBA16F (fast radiance, sqrt of the second moment), history length and confidence
@@ -34,14 +33,21 @@ NRD_PASS_TYPES
 #include "../Shaders/Relax/Relax_SpatialVariance.resources.h"
 #define RELAX_SPECULAR 0
 #define RELAX_CONFIDENCE 0
+#define RELAX_ATROUS_SMEM 0
 #include "../Shaders/Relax/Relax_TemporalAccumulation.resources.h"
 #include "../Shaders/Relax/Relax_HistoryFix.resources.h"
 #include "../Shaders/Relax/Relax_Atrous.resources.h"
 #undef RELAX_CONFIDENCE
 #define RELAX_CONFIDENCE 1
 #include "../Shaders/Relax/Relax_TemporalAccumulation.resources.h"
+#undef RELAX_ATROUS_SMEM
+#define RELAX_ATROUS_SMEM 1
+#include "../Shaders/Relax/Relax_Atrous.resources.h"
 #undef RELAX_SPECULAR
 #define RELAX_SPECULAR 1
+#include "../Shaders/Relax/Relax_Atrous.resources.h"
+#undef RELAX_ATROUS_SMEM
+#define RELAX_ATROUS_SMEM 0
 #include "../Shaders/Relax/Relax_Atrous.resources.h"
 #include "../Shaders/Relax/Relax_HistoryFix.resources.h"
 #include "../Shaders/Relax/Relax_TemporalAccumulation.resources.h"
@@ -50,6 +56,7 @@ NRD_PASS_TYPES
 #include "../Shaders/Relax/Relax_TemporalAccumulation.resources.h"
 #undef RELAX_SPECULAR
 #undef RELAX_CONFIDENCE
+#undef RELAX_ATROUS_SMEM
 } // namespace passes
 
 namespace
@@ -60,7 +67,7 @@ constexpr uint32_t kMaxAtrousIterationNum = 8;
 
 typedef passes::Relax_ClassifyTiles::Constants RelaxConstants;
 static_assert(sizeof(RelaxConstants) == sizeof(passes::Relax_Diffuse_TemporalAccumulation::Constants) &&
-                  sizeof(RelaxConstants) == sizeof(passes::Relax_Specular_Atrous::Constants) &&
+                  sizeof(RelaxConstants) == sizeof(passes::Relax_Specular_AtrousSmem::Constants) &&
                   sizeof(RelaxConstants) == sizeof(passes::Relax_SpatialVariance::Constants),
               "RELAX passes share one constant block");
 static_assert(sizeof(RelaxConstants) % 16 == 0, "std140 block size");
@@ -148,7 +155,7 @@ struct Chain
     uint32_t temporal[2] = {}; // Without / with the confidence input.
     uint32_t historyFix = 0;
     uint32_t variance[2] = {};   // [0] -> transient, [1] -> output.
-    // Per iteration k, since a template runs at most once per frame:
+    // Per iteration k ([0]: shared memory), since a template runs at most once per frame:
     // [k][0] transient -> output, [k][1] output -> transient.
     uint32_t atrous[kMaxAtrousIterationNum][2] = {};
 };
@@ -212,7 +219,9 @@ public:
                     "RELAX - Specular history fix and clamping", fix);
                 for (int d = 0; d < 2; d++)
                 {
-                    for (uint32_t k = 0; k < kMaxAtrousIterationNum; k++)
+                    chain.atrous[0][d] = builder.AddDispatch<passes::Relax_Specular_AtrousSmem>(
+                        "RELAX - Specular a-trous (shared memory)", d == 0 ? toOutput : toTransient);
+                    for (uint32_t k = 1; k < kMaxAtrousIterationNum; k++)
                         chain.atrous[k][d] =
                             builder.AddDispatch<passes::Relax_Specular_Atrous>("RELAX - Specular a-trous", d == 0 ? toOutput : toTransient);
                 }
@@ -227,7 +236,9 @@ public:
                     "RELAX - Diffuse history fix and clamping", fix);
                 for (int d = 0; d < 2; d++)
                 {
-                    for (uint32_t k = 0; k < kMaxAtrousIterationNum; k++)
+                    chain.atrous[0][d] = builder.AddDispatch<passes::Relax_Diffuse_AtrousSmem>(
+                        "RELAX - Diffuse a-trous (shared memory)", d == 0 ? toOutput : toTransient);
+                    for (uint32_t k = 1; k < kMaxAtrousIterationNum; k++)
                         chain.atrous[k][d] =
                             builder.AddDispatch<passes::Relax_Diffuse_Atrous>("RELAX - Diffuse a-trous", d == 0 ? toOutput : toTransient);
                 }
@@ -308,11 +319,9 @@ public:
             for (uint32_t k = 0; k < n; k++)
             {
                 const int toTransient = ((n - 1 - k) & 1u) == 0u ? 0 : 1;
-                // Groups of 8x8 pixels 'step' apart, in blocks of 8 * step pixels (Relax_Atrous.comp).
-                const uint32_t step = 1u << k, block = kTileSize * step;
-                c.gAtrousStep = step;
+                c.gAtrousStep = 1u << k;
                 c.gFlags = baseFlags | (k + 1 == n ? RELAX_FLAG_LAST_ATROUS : 0u);
-                context.Dispatch(chain.atrous[k][toTransient], c, DivideUp(w, block) * block, DivideUp(h, block) * block);
+                context.Dispatch(chain.atrous[k][toTransient], c, w, h);
             }
             c.gAtrousStep = 0;
             c.gFlags = 0;

@@ -441,9 +441,9 @@ TEST_CASE("RELAX variance estimation and a-trous iterations equal a CPU evaluati
         settings.spatialVarianceEstimationHistoryThreshold = 0;
         std::vector<std::vector<ResourceDesc>> resources;
         std::vector<DispatchDesc> dispatches = Dispatches(method, w, h, settings, resources);
-        // Two iterations: the variance estimation writes the output texture, iteration 0 reads it
-        // and writes the transient texture, iteration 1 reads that and the slow history and writes
-        // the output.
+        // Two iterations: the variance estimation writes the output texture, iteration 0 (shared
+        // memory) reads it and writes the transient texture, iteration 1 reads that and the slow
+        // history and writes the output.
         int variance = -1, first = -1, last = -1;
         for (size_t i = 0; i < dispatches.size(); i++)
         {
@@ -507,7 +507,7 @@ TEST_CASE("RELAX variance estimation and a-trous iterations equal a CPU evaluati
             a.swap(aNearest);
         }
         CHECK(mismatches == 0);
-        std::printf("RELAX %s variance + a-trous step 1 vs CPU: max relative difference %.2e\n",
+        std::printf("RELAX %s variance + a-trous step 1 (shared memory) vs CPU: max relative difference %.2e\n",
                     isSpecular ? "specular" : "diffuse", maxDiff);
         p.step = 2;
         p.isLast = true;
@@ -524,8 +524,8 @@ TEST_CASE("RELAX variance estimation and a-trous iterations equal a CPU evaluati
             if (in.IsSky(i))
                 CHECK(out[i * 4] == kSentinel);
 
-        // Three iterations: the third (step 4, groups of 8x8 pixels 4 apart) reads the transient
-        // texture (the second's result) and writes the output.
+        // Three iterations: the third (step 4) reads the transient texture (the second's result)
+        // and writes the output.
         RelaxSettings settings3 = settings;
         settings3.atrousIterationNum = 3;
         std::vector<std::vector<ResourceDesc>> resources3;

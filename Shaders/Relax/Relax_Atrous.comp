@@ -19,84 +19,106 @@
 #include "CommonFrame.glsl"
 #include "Relax_Common.glsl"
 
-// A tap as the stoppers need it, decoded once per texel.
+#ifndef RELAX_ATROUS_SMEM
+#define RELAX_ATROUS_SMEM 0
+#endif
+
 struct Tap
 {
     vec4 radianceVariance;
-    vec3 Nw;          // World-space normal.
-    float luminance;  // Of .rgb of radianceVariance.
-    vec3 X;           // View-space position.
-    float roughness;  // Linear roughness; -1: no surface (sky or outside the image).
+    RelaxSurface surface;
 };
 
-// Every iteration reads its taps from shared memory. A group holds 8x8 pixels gAtrousStep apart
-// (a strided tile): the image is cut into blocks of 8 * step pixels, each holding step x step such
-// tiles, one per offset within a step. The taps of its pixels are then the texels of the same
-// lattice, 2 * step around it: (8 + 4) x (8 + 4) texels, each decoded once (viewZ, normal and
-// position, luminance) for the up to 25 taps and 9 variance taps that read it.
+#if RELAX_ATROUS_SMEM
+// Step 1: the group's 8x8 pixels and a border of 2 live in shared memory.
 #define BORDER 2
 #define REGION (RELAX_TILE_SIZE + 2 * BORDER)
 shared vec4 sRadianceVariance[REGION * REGION];
-shared vec4 sNormalLuminance[REGION * REGION];
-shared vec4 sPositionRoughness[REGION * REGION];
+shared vec4 sNormalZ[REGION * REGION];   // World-space normal, viewZ (0: sky or outside).
+shared float sRoughness[REGION * REGION];
 
-// Pixel of the strided tile's texel 'lattice' (the group's pixels at [0, 8)).
-ivec2 LatticePixel(ivec2 lattice, int step)
+void Preload()
 {
-    ivec2 group = ivec2(gl_WorkGroupID.xy);
-    ivec2 block = group / step, offset = group - block * step;
-    return block * (RELAX_TILE_SIZE * step) + offset + lattice * step;
-}
-
-void Preload(int step)
-{
-    for (int i = int(gl_LocalInvocationIndex); i < REGION * REGION; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
+    ivec2 base = ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - BORDER;
+    for (uint i = gl_LocalInvocationIndex; i < REGION * REGION; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
     {
-        ivec2 p = LatticePixel(ivec2(i % REGION, i / REGION) - BORDER, step);
+        ivec2 p = base + ivec2(i % REGION, i / REGION);
         RelaxSurface s = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
-        vec4 radianceVariance = s.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
-        sRadianceVariance[i] = radianceVariance;
-        sNormalLuminance[i] = vec4(s.Nw, _NRD_Luminance(radianceVariance.rgb));
-        sPositionRoughness[i] = vec4(s.X, s.z == 0.0 ? -1.0 : s.roughness);
+        sNormalZ[i] = vec4(s.Nw, s.z);
+        sRoughness[i] = s.roughness;
+        sRadianceVariance[i] = s.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
     }
     barrier();
 }
 
-// The tap 'offset' steps from this invocation's pixel.
-int RegionIndex(ivec2 offset)
+Tap LoadTap(ivec2 p)
 {
-    ivec2 local = ivec2(gl_LocalInvocationID.xy) + BORDER + offset;
-    return local.y * REGION + local.x;
-}
-
-Tap LoadTap(ivec2 offset)
-{
-    int i = RegionIndex(offset);
+    ivec2 local = p - (ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - BORDER);
     Tap t;
+    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, ivec2(REGION))))
+    {
+        // Outside the preloaded region (cannot happen with step 1 and taps within BORDER): no tap.
+        t.surface.N = vec3(0.0, 0.0, 1.0);
+        t.surface.Nw = vec3(0.0, 0.0, 1.0);
+        t.surface.z = 0.0;
+        t.surface.X = vec3(0.0);
+        t.surface.roughness = 1.0;
+        t.radianceVariance = vec4(0.0);
+        return t;
+    }
+    int i = local.y * REGION + local.x;
+    vec4 nz = sNormalZ[i];
+    t.surface.N = vec3(0.0, 0.0, 1.0);
+    t.surface.Nw = nz.xyz;
+    t.surface.z = nz.w;
+    t.surface.X = nz.w == 0.0 ? vec3(0.0) : _NRD_ViewPosition(_NRD_PixelUv(p), nz.w);
+    t.surface.roughness = sRoughness[i];
     t.radianceVariance = sRadianceVariance[i];
-    vec4 nl = sNormalLuminance[i];
-    t.Nw = nl.xyz;
-    t.luminance = nl.w;
-    vec4 xr = sPositionRoughness[i];
-    t.X = xr.xyz;
-    t.roughness = xr.w;
     return t;
 }
 
+// viewZ (0: no surface) and variance of a tap, for the variance prefilter.
+vec2 LoadDepthVariance(ivec2 p)
+{
+    ivec2 local = p - (ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - BORDER);
+    if (any(lessThan(local, ivec2(0))) || any(greaterThanEqual(local, ivec2(REGION))))
+        return vec2(0.0);
+    int i = local.y * REGION + local.x;
+    return vec2(sNormalZ[i].w, sRadianceVariance[i].w);
+}
+#else
+Tap LoadTap(ivec2 p)
+{
+    Tap t;
+    t.surface = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, p);
+    t.radianceVariance = t.surface.z == 0.0 ? vec4(0.0) : texelFetch(gIn_RadianceVariance, p, 0);
+    return t;
+}
+
+vec2 LoadDepthVariance(ivec2 p)
+{
+    if (!Relax_IsInImage(p))
+        return vec2(0.0);
+    float z = texelFetch(gIn_ViewZ, p, 0).x;
+    return _NRD_IsSky(z) ? vec2(0.0) : vec2(z, texelFetch(gIn_RadianceVariance, p, 0).w);
+}
+#endif
+
 void main()
 {
+    if (Relax_IsTileSkipped(gIn_Tiles))
+        return;
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+#if RELAX_ATROUS_SMEM
+    Preload();
+    const int step = 1;
+#else
     const int step = int(gAtrousStep);
-    // Step 1: the group is a tile of the sky map. Larger steps: its pixels lie in step x step tiles,
-    // and sky pixels return below.
-    if (step == 1 && Relax_IsTileSkipped(gIn_Tiles))
+#endif
+    Tap c = LoadTap(pixel);
+    if (c.surface.z == 0.0)
         return;
-    ivec2 pixel = LatticePixel(ivec2(gl_LocalInvocationID.xy), step);
-    Preload(step);
-    Tap c = LoadTap(ivec2(0));
-    if (c.roughness < 0.0)
-        return;
-    vec3 N = Relax_ViewNormal(c.Nw); // The tangent plane's normal.
-    float z = c.X.z * gViewZSign;
+    c.surface.N = Relax_ViewNormal(c.surface.Nw); // The tangent plane's normal.
     bool isLast = (gFlags & RELAX_FLAG_LAST_ATROUS) != 0u;
 
     // Variance prefiltered with a 3x3 Gaussian (1/4, 1/8, 1/16) of the neighbours on a surface.
@@ -104,31 +126,28 @@ void main()
     for (int j = -1; j <= 1; j++)
         for (int i = -1; i <= 1; i++)
         {
-            int t = RegionIndex(ivec2(i, j));
+            vec2 zv = LoadDepthVariance(pixel + ivec2(i, j) * step);
             float k = (i == 0 ? 0.5 : 0.25) * (j == 0 ? 0.5 : 0.25);
-            if (sPositionRoughness[t].w < 0.0)
+            if (zv.x == 0.0)
                 continue;
-            variance += k * sRadianceVariance[t].w;
+            variance += k * zv.y;
             varianceWeight += k;
         }
     variance /= varianceWeight;
 
 #if RELAX_SPECULAR
-    float lobe = Relax_LobeHalfAngle(c.roughness);
-    bool roughnessStop = (gFlags & RELAX_FLAG_ROUGHNESS_STOP) != 0u;
-    float roughnessScale = 1.0 / (gRoughnessFraction * c.roughness + 0.01);
+    float lobe = Relax_LobeHalfAngle(c.surface.roughness);
 #else
     float lobe = Relax_LobeHalfAngle(1.0);
 #endif
-    // The stoppers of Relax_Common.glsl with their divisions hoisted out of the loop.
-    float angleScale = 1.0 / (gLobeAngleFraction * lobe + gLobeAngleSlack);
-    float planeScale = 1.0 / (gDepthThreshold * z);
+    float maxAngle = gLobeAngleFraction * lobe + gLobeAngleSlack;
+    float lumaCenter = _NRD_Luminance(c.radianceVariance.rgb);
     float lumaScale = 1.0 / (gPhiLuminance * sqrt(max(variance, 0.0)) + 1e-6);
     const float kKernel[3] = float[3](3.0 / 8.0, 1.0 / 4.0, 1.0 / 16.0);
 
     vec3 sum = vec3(0.0);
     float varianceSum = 0.0, weightSum = 0.0, hitSum = 0.0;
-    // Plain loops: unrolled, the 25 tap loads make the shader several times larger to compile.
+    // Plain loops: unrolled, the 25 surface loads make the shader several times larger to compile.
     for (int j = -2; j <= 2; j++)
         for (int i = -2; i <= 2; i++)
         {
@@ -142,16 +161,16 @@ void main()
             }
             else
             {
-                t = LoadTap(ivec2(i, j));
-                if (t.roughness < 0.0)
+                t = LoadTap(q);
+                if (t.surface.z == 0.0)
                     continue;
-                w = clamp(1.0 - acos(clamp(dot(c.Nw, t.Nw), -1.0, 1.0)) * angleScale, 0.0, 1.0);
-                w *= clamp(1.0 - abs(dot(N, t.X - c.X)) * planeScale, 0.0, 1.0);
+                w = Relax_NormalWeight(c.surface.Nw, t.surface.Nw, maxAngle);
+                w *= Relax_PlaneWeight(c.surface, t.surface.X, gDepthThreshold);
 #if RELAX_SPECULAR
-                if (roughnessStop)
-                    w *= clamp(1.0 - abs(c.roughness - t.roughness) * roughnessScale, 0.0, 1.0);
+                if ((gFlags & RELAX_FLAG_ROUGHNESS_STOP) != 0u)
+                    w *= Relax_RoughnessWeight(c.surface.roughness, t.surface.roughness, gRoughnessFraction);
 #endif
-                w *= exp(-abs(t.luminance - c.luminance) * lumaScale);
+                w *= exp(-abs(_NRD_Luminance(t.radianceVariance.rgb) - lumaCenter) * lumaScale);
             }
             w *= kKernel[abs(i)] * kKernel[abs(j)];
             if (w <= 0.0)

@@ -52,42 +52,6 @@ bool IsTraced(ivec2 p)
     return gCheckerboard == 0u || ((uint(p.x + p.y) + gFrameIndex + gCheckerboard) & 1u) == 0u;
 }
 
-// This frame's neighbourhood of the group (its 8x8 pixels and a border of 2) in shared memory, each
-// texel decoded once for the fast history's 3x3 clamping box and the 5x5 local means.
-#define NEIGHBOURHOOD_BORDER 2
-#define NEIGHBOURHOOD_REGION (RELAX_TILE_SIZE + 2 * NEIGHBOURHOOD_BORDER)
-shared vec4 sPositionZ[NEIGHBOURHOOD_REGION * NEIGHBOURHOOD_REGION];  // View-space position, viewZ (0: none).
-shared vec4 sNormalSample[NEIGHBOURHOOD_REGION * NEIGHBOURHOOD_REGION]; // World-space normal, 1: a traced sample.
-shared vec3 sSignal[NEIGHBOURHOOD_REGION * NEIGHBOURHOOD_REGION];     // Sanitized radiance of the sample.
-
-void PreloadNeighbourhood()
-{
-    ivec2 origin = ivec2(gl_WorkGroupID.xy) * RELAX_TILE_SIZE - NEIGHBOURHOOD_BORDER;
-    const uint texels = NEIGHBOURHOOD_REGION * NEIGHBOURHOOD_REGION;
-    for (uint i = gl_LocalInvocationIndex; i < texels; i += RELAX_TILE_SIZE * RELAX_TILE_SIZE)
-    {
-        ivec2 q = origin + ivec2(i % NEIGHBOURHOOD_REGION, i / NEIGHBOURHOOD_REGION);
-        RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
-        vec4 raw = n.z == 0.0 || !IsTraced(q) ? vec4(0.0) : texelFetch(gIn_Signal, q, 0);
-        bool isSample = n.z != 0.0 && IsTraced(q) && Relax_IsSample(raw);
-        sPositionZ[i] = vec4(n.X, n.z);
-        sNormalSample[i] = vec4(n.Nw, isSample ? 1.0 : 0.0);
-        sSignal[i] = isSample ? Relax_SanitizeSignal(raw).rgb : vec3(0.0);
-    }
-    barrier();
-}
-
-// A neighbour of this invocation's pixel, at most NEIGHBOURHOOD_BORDER away: whether it holds a
-// traced sample on the same surface as 's' (the test of the clamping box and the local means).
-bool NeighbourSample(RelaxSurface s, ivec2 offset, out vec3 c)
-{
-    ivec2 local = ivec2(gl_LocalInvocationID.xy) + NEIGHBOURHOOD_BORDER + offset;
-    uint i = uint(local.y * NEIGHBOURHOOD_REGION + local.x);
-    vec4 xz = sPositionZ[i], ns = sNormalSample[i];
-    c = sSignal[i];
-    return ns.w != 0.0 && Relax_PlaneWeight(s, xz.xyz, 0.05) > 0.0 && dot(s.Nw, ns.xyz) >= 0.8;
-}
-
 // Catmull-Rom history within the range of the bilinear footprint's 2x2 texels (no ringing).
 vec4 _Relax_CatmullRomWithinFootprint(texture2D history, NrdFootprint footprint, ivec2 size)
 {
@@ -152,7 +116,6 @@ void main()
 {
     if (Relax_IsTileSkipped(gIn_Tiles))
         return;
-    PreloadNeighbourhood();
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
     RelaxSurface s = Relax_LoadSurface(gIn_NormalRoughness, gIn_ViewZ, pixel);
     if (s.z == 0.0)
@@ -236,9 +199,16 @@ void main()
         [[unroll]] for (int j = -1; j <= 1; j++)
             [[unroll]] for (int i = -1; i <= 1; i++)
             {
-                vec3 c;
-                if (!NeighbourSample(s, ivec2(i, j), c))
+                ivec2 q = pixel + ivec2(i, j);
+                if (!IsTraced(q))
                     continue;
+                RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.Nw, n.Nw) < 0.8)
+                    continue;
+                vec4 raw = texelFetch(gIn_Signal, q, 0);
+                if (!Relax_IsSample(raw))
+                    continue;
+                vec3 c = Relax_SanitizeSignal(raw).rgb;
                 m1 += c;
                 m2 += c * c;
                 count += 1.0;
@@ -316,14 +286,19 @@ void main()
         for (int dy = -2; dy <= 2; dy++)
             for (int dx = -2; dx <= 2; dx++)
             {
-                ivec2 qPrev = prevCenter + ivec2(dx, dy);
+                ivec2 q = pixel + ivec2(dx, dy), qPrev = prevCenter + ivec2(dx, dy);
+                if (!Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q))
+                    continue;
                 // Same surface now (as the fast history's clamping box) and before (viewZ).
-                vec3 c;
-                if (!Relax_IsInImage(qPrev) || !NeighbourSample(s, ivec2(dx, dy), c))
-                    continue;
+                RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
                 float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
-                if (!(zPrev > 0.0) || abs(zPrev - zExpected) > 0.05 * zExpected)
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.Nw, n.Nw) < 0.8 || !(zPrev > 0.0) ||
+                    abs(zPrev - zExpected) > 0.05 * zExpected)
                     continue;
+                vec4 raw = texelFetch(gIn_Signal, q, 0);
+                if (!Relax_IsSample(raw))
+                    continue;
+                vec3 c = Relax_SanitizeSignal(raw).rgb;
                 vec4 f = _NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0), 0.0);
                 vec3 sl = _NRD_Sanitize(texelFetch(gPrev_Slow, qPrev, 0).rgb, 0.0);
                 float l = _NRD_Luminance(c), ls = _NRD_Luminance(sl);
