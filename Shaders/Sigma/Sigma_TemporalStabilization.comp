@@ -9,8 +9,9 @@
 // had to move it (anti-lag) and blends with a per-pixel history length of at most
 // gMaxStabilizedFrameNum frames. Hard shadows (sub-pixel penumbra) keep history only where it needs
 // no resampling, and restart it where a shadow arrives or leaves. History = this frame's result,
-// stored with its viewZ, history length and whether this frame's sample was lit (viewZ bits with
-// the 5 low bits replaced by the length, bit 5 by the sample).
+// stored with its viewZ, history length, whether this frame's sample was lit and whether a hard
+// shadow's departure restarted it (viewZ bits with the 5 low bits replaced by the length, bit 5 by
+// the sample, bit 6 by the restart).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -25,7 +26,9 @@
 // Bit 5 of the packed viewZ: the pixel's sample was lit (its value at least 0.5: a hard shadow's
 // blur copies the input).
 #define HISTORY_SAMPLE_BIT 32u
-#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT))
+// Bit 6 of the packed viewZ: the history restarted there because a hard shadow left the pixel.
+#define HISTORY_DEPARTED_BIT 64u
+#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT))
 // Clamping box: mean +- SIGMA_SCALE * sigma. History length lost per unit of clamping displacement:
 // higher values follow moving shadows (moving lights and occluders) sooner at some cost in noise
 // on still ones (measured on the scene lab's static / moving_light / moving_occluder scenes).
@@ -79,32 +82,31 @@ SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
     return _Sigma_Signal01(sum / weightSum);
 }
 
-uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit)
+uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted)
 {
     return (floatBitsToUint(viewZ) & HISTORY_VIEWZ_MASK) | min(uint(historyLength + 0.5), HISTORY_LENGTH_MASK) |
-           (isLit ? HISTORY_SAMPLE_BIT : 0u);
+           (isLit ? HISTORY_SAMPLE_BIT : 0u) | (isDeparted ? HISTORY_DEPARTED_BIT : 0u);
 }
 
-// Whether a hard shadow's pixel at 'q' of the previous frame (no resampling) is lit now under dark
-// history: 0 no, 1 yes, 2 yes and its sample was lit there too (lit for the second frame in a row).
-int DepartureLevel(ivec2 q, SIGMA_TYPE currentValue)
+// A hard shadow's pixel at 'q' of the previous frame (no resampling) with sample 'currentValue' now
+// and 'packed' there: 0 unless lit now under dark history (lit sample minus history above
+// HARD_SHADOW_ARRIVAL), 1 if so, 2 if its sample was lit there too (lit for the second frame in a row).
+int DepartureLevel(ivec2 q, SIGMA_TYPE currentValue, uint packed)
 {
-    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)) || _Sigma_MaxComponent(currentValue) < 0.5 ||
-        !(_Sigma_MaxComponent(currentValue - LoadHistory(q)) > HARD_SHADOW_ARRIVAL))
+    if (_Sigma_MaxComponent(currentValue) < 0.5 || !(_Sigma_MaxComponent(currentValue - LoadHistory(q)) > HARD_SHADOW_ARRIVAL))
         return 0;
-    uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
     return (packed & HISTORY_SAMPLE_BIT) != 0u ? 2 : 1;
 }
 
 // Marks a pixel without history (sky): its viewZ never matches.
-const uint kNoHistory = 0x7F7FFFE0u; // ~3.4e38, length 0
+const uint kNoHistory = 0x7F7FFF80u; // ~3.4e38, length 0, flags clear
 
-void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current)
+void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current, bool isDeparted)
 {
     imageStore(gOut_ShadowTranslucency, pixel, vec4(result));
     imageStore(gHistory_Shadow, pixel, vec4(result));
     bool isLit = _Sigma_MaxComponent(current) >= 0.5;
-    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit)));
+    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted)));
 }
 
 void main()
@@ -123,7 +125,7 @@ void main()
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
-            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value);
+            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value, false);
         }
         return;
     }
@@ -244,6 +246,7 @@ void main()
 
     SIGMA_TYPE result = current;
     float newLength = 1.0;
+    bool isDeparted = false;
     if (historyWeight > 1e-3)
     {
         history /= historyWeight;
@@ -270,24 +273,42 @@ void main()
         // before too and so are two neighbours now, or one twice as well. A shadow edge that moved
         // without motion vectors (a turning light, moving stripes, a light switched on) turns a row
         // of pixels at once; a still penumbra's noise rarely gives three such pixels side by side.
-        // (The history is not resampled here: the previous frame's pixels are this frame's.)
-        if (isHardShadow && historyWeight > 0.999)
+        // The restart spreads along the departed edge: a pixel lit for the second frame in a row
+        // under history below 1 - HARD_SHADOW_ARRIVAL (one that the rows missed and the blend only
+        // partly brightened) restarts next to a marked one of the previous frame, and is marked
+        // itself; a row restart marks the pixel only where it was lit twice in a row (still
+        // penumbrae rarely start the chain). (The history is not resampled here: the previous
+        // frame's pixels are this frame's.)
+        if (isHardShadow && historyWeight > 0.999 && _Sigma_MaxComponent(current) >= 0.5)
         {
             ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
-            int level = DepartureLevel(q, current);
-            if (level > 0)
+            uint packedQ = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
+            int level = DepartureLevel(q, current, packedQ);
+            bool wasLit = (packedQ & HISTORY_SAMPLE_BIT) != 0u;
+            bool mayFollow = wasLit && _Sigma_MaxComponent(current - history) > 1.0 - HARD_SHADOW_ARRIVAL;
+            if (level > 0 || mayFollow)
             {
                 int departed = level - 1;
-                int departed2 = 0;
+                int departedTwice = 0;
+                bool isNextToDeparted = false;
                 for (int j = -1; j <= 1; j++)
+                {
                     for (int i = -1; i <= 1; i++)
-                        if ((i != 0 || j != 0) && s_ViewZ[c.y + j][c.x + i] != 0.0)
-                        {
-                            int l = DepartureLevel(q + ivec2(i, j), s_Signal[c.y + j][c.x + i]);
-                            departed += l > 0 ? 1 : 0;
-                            departed2 += l > 1 ? 1 : 0;
-                        }
-                if (departed >= 3 || (level == 2 && departed2 > 0))
+                    {
+                        ivec2 n = q + ivec2(i, j);
+                        if ((i == 0 && j == 0) || s_ViewZ[c.y + j][c.x + i] == 0.0 || any(lessThan(n, ivec2(0))) ||
+                            any(greaterThanEqual(uvec2(n), gResourceSize)))
+                            continue;
+                        uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), n, 0).x;
+                        int l = DepartureLevel(n, s_Signal[c.y + j][c.x + i], packed);
+                        departed += l > 0 ? 1 : 0;
+                        departedTwice += l > 1 ? 1 : 0;
+                        isNextToDeparted = isNextToDeparted || (packed & HISTORY_DEPARTED_BIT) != 0u;
+                    }
+                }
+                bool isRow = level > 0 && (departed >= 3 || (level == 2 && departedTwice > 0));
+                isDeparted = (isRow && level == 2) || (mayFollow && isNextToDeparted);
+                if (isRow || isDeparted)
                     antilag = 0.0;
             }
         }
@@ -297,5 +318,5 @@ void main()
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
     }
 
-    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current);
+    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted);
 }
