@@ -417,9 +417,9 @@ void main()
         vec4 weighted = vec4(0.0);
         float support = 0.0, meanMin = 1.0, meanMax = 0.0;
         float resampling = 0.0; // Blur of the resampling: 0 at texel centres, 0.5 halfway on both axes.
-        // Raw samples of the 4x4 footprint (bit 4 k.y + k.x), valid texels only; bits 16..31: the
-        // texels whose recent samples were all equal (TS_SETTLED; their last raw sample is the settled value).
-        uint previousBits = 0u;
+        uint previousBits = 0u;  // Raw samples of the 4x4 footprint (bit 4 k.y + k.x), valid texels only.
+        // Texels of the 4x4 footprint whose recent samples were all equal (TS_SETTLED; their last raw
+        // sample, in previousBits, is then the settled value).
         uint footprintBits = 0u; // Texels of the 4x4 footprint that hold this surface.
         ivec2 nearestK = ivec2(1);
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
@@ -611,7 +611,6 @@ void main()
         // Temporal determinism (TS_DETERMINISTIC): this frame's bits against the previous frame's at
         // the same offsets from the nearest history texel, where both are this surface.
         float flips = 0.0, pairs = 0.0, lit = 0.0;
-        int contradictions = 0; // Settled texels (TS_SETTLED) whose value this frame's bit contradicts.
         bool isCentreUnchanged = false;
         for (int t = 0; t < 16 && footprintBits != 0u; t++)
         {
@@ -623,10 +622,19 @@ void main()
             flips += float(current ^ previous);
             pairs += 1.0;
             lit += float(current + previous);
-            contradictions += int((current ^ previous) & (previousBits >> uint(16 + t)));
             if (d == ivec2(0))
                 isCentreUnchanged = current == previous;
         }
+        // Settled texels (TS_SETTLED) whose value this frame's bit at the same offset contradicts: this
+        // frame's 5x5 bits moved into the footprint's layout (the nearest texel at the centre).
+        uint currentBits = 0u, currentInImage = 0u;
+        for (int row = 0; row < 4; row++)
+        {
+            uint shift = uint(5 * (row - nearestK.y + 2) + 2 - nearestK.x);
+            currentBits |= ((near >> shift) & 0xFu) << uint(4 * row);
+            currentInImage |= ((nearInImage >> shift) & 0xFu) << uint(4 * row);
+        }
+        int contradictions = bitCount((currentBits ^ previousBits) & (previousBits >> 16) & footprintBits & currentInImage);
         float litFraction = lit / max(2.0 * pairs, 1.0);
         float expectedFlips = pairs * 2.0 * litFraction * (1.0 - litFraction);
         // Only where the history is in doubt: under motion, where the resampled history is on the other
