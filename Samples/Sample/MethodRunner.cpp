@@ -91,7 +91,7 @@ bool ResolveMethod(const RunOptions& o, MethodIo& io, std::string& error)
 // Reads the common settings and the method's own settings object; other methods' keys are
 // accepted (one settings file may serve several methods), unknown keys are not.
 bool ParseSettings(const std::string& text, nrd::CommonSettings& common, MethodAdapter& adapter, bool& motion3d,
-                   bool& motionNone, std::string& error)
+                   bool& motionNone, std::string& error, std::vector<uint32_t>* restartFrames = nullptr)
 {
     if (text.empty())
         return true;
@@ -123,6 +123,10 @@ bool ParseSettings(const std::string& text, nrd::CommonSettings& common, MethodA
             }
             motion3d = motion == "3d";
             motionNone = motion == "none";
+            // Frames on which every history restarts (accumulationMode RESTART): a perfect
+            // invalidation at known lighting changes, the bound a confidence input can reach.
+            if (restartFrames && c.contains("restartFrames"))
+                *restartFrames = c["restartFrames"].get<std::vector<uint32_t>>();
         }
         const char* key = adapter.GetSettingsKey();
         if (key && j.contains(key) && !adapter.ParseSettings(j[key], error))
@@ -464,7 +468,8 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
 
     nrd::CommonSettings common;
     bool motion3d = true, motionNone = false;
-    if (!ParseSettings(o.settingsJson, common, *io.adapter, motion3d, motionNone, error))
+    std::vector<uint32_t> restartFrames;
+    if (!ParseSettings(o.settingsJson, common, *io.adapter, motion3d, motionNone, error, &restartFrames))
         return false;
     if (io.confidence)
     {
@@ -597,6 +602,9 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             memcpy(common.worldToViewMatrixPrev, frame.camera.worldToViewPrev, sizeof(common.worldToViewMatrixPrev));
             memcpy(common.viewToClipMatrixPrev, frame.camera.viewToClipPrev, sizeof(common.viewToClipMatrixPrev));
             common.frameIndex = f;
+            common.accumulationMode = std::find(restartFrames.begin(), restartFrames.end(), f) != restartFrames.end()
+                                          ? nrd::AccumulationMode::RESTART
+                                          : nrd::AccumulationMode::CONTINUE;
             // motion3d is posPrev - pos (scale 1 on all axes), motion2d is uvPrev - uv (no z).
             common.isMotionVectorInWorldSpace = motion3d;
             bool ignoreMotion = motionNone;
