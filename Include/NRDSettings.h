@@ -366,9 +366,17 @@ struct ConfidenceSettings
 
     // Normal weight max(n . n', 0)^normalPower, [0, 128]; 0 turns normal stopping off.
     float normalPower = 4.0f;
+
+    // Local limit: a pixel's normalized gradient is at most that of the unfiltered strata within
+    // this many strata of the four around it (2 r + 2 strata a side: 3 -> 8 x 8 strata, 24 x 24
+    // pixels), so that the a-trous filter's 93 x 93 pixels do not cut the histories of a whole
+    // region around a small change (a moving shadow), [0, CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS];
+    // 0 turns it off (gradients too noisy per stratum to be read without the filter).
+    uint32_t localGradientRadius = 3;
 };
 
 constexpr uint32_t CONFIDENCE_MAX_ATROUS_PASS_NUM = 5;
+constexpr uint32_t CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS = 8;
 
 // RELAX_DIFFUSE, RELAX_SPECULAR and RELAX_DIFFUSE_SPECULAR (one struct for both signals; fields
 // prefixed diffuse / specular apply to one signal). Ranges in brackets; INVALID_ARGUMENT outside.

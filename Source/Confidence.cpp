@@ -5,6 +5,8 @@
 // Passes per frame:
 //   Confidence_Filter    x atrousPassNum  a-trous 3x3 over IN_GRADIENTS at 1/3 resolution (steps 1, 2,
 //                                         4, ...), ping-pong between two transient textures
+//   Confidence_Local     x 0 or 1         the local limit's box means of IN_GRADIENTS at 1/3 resolution
+//                                         (localGradientRadius > 0)
 //   Confidence_Temporal  x 1              normalization, conversion to [0, 1], short temporal filter
 //                                         with the reprojected history; writes OUT_*_CONFIDENCE
 #include "InstanceImpl.h"
@@ -17,6 +19,7 @@ namespace passes
 {
 NRD_PASS_TYPES
 #include "../Shaders/Confidence/Confidence_Filter.resources.h"
+#include "../Shaders/Confidence/Confidence_Local.resources.h"
 #include "../Shaders/Confidence/Confidence_Temporal.resources.h"
 } // namespace passes
 
@@ -53,6 +56,12 @@ Result ValidateConfidenceSettings(const ConfidenceSettings& s, const Logger& log
             return Result::INVALID_ARGUMENT;
         }
     }
+    if (s.localGradientRadius > CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS)
+    {
+        log.Error("SetMethodSettings: ConfidenceSettings::localGradientRadius %u is outside [0, %u]", s.localGradientRadius,
+                  CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS);
+        return Result::INVALID_ARGUMENT;
+    }
     if (s.atrousPassNum < 1 || s.atrousPassNum > CONFIDENCE_MAX_ATROUS_PASS_NUM)
     {
         log.Error("SetMethodSettings: ConfidenceSettings::atrousPassNum %u is outside [1, %u]", s.atrousPassNum,
@@ -73,6 +82,8 @@ public:
         // copies written alternately.
         ResourceRef filtered[2] = {builder.AddTransientTexture(Format::RGBA16_SFLOAT, kStratumSize, kStratumSize),
                                    builder.AddTransientTexture(Format::RGBA16_SFLOAT, kStratumSize, kStratumSize)};
+        // The local limit's box means of the unfiltered gradients, 1/3 resolution.
+        const ResourceRef local = builder.AddTransientTexture(Format::RGBA16_SFLOAT, kStratumSize, kStratumSize);
         ResourceRef history[2] = {builder.AddPermanentTexture(Format::RG16_SFLOAT),
                                   builder.AddPermanentTexture(Format::RG16_SFLOAT)};
         const ResourceRef viewZ = App(R::IN_VIEWZ), normal = App(R::IN_NORMAL_ROUGHNESS);
@@ -86,11 +97,12 @@ public:
         for (uint32_t i = 0; i < CONFIDENCE_MAX_ATROUS_PASS_NUM; i++)
             m_Filter[i] = builder.AddDispatch<passes::Confidence_Filter>(
                 kFilterNames[i], {i == 0 ? App(R::IN_GRADIENTS) : filtered[(i - 1) & 1u], viewZ, normal, filtered[i & 1u]});
+        m_Local = builder.AddDispatch<passes::Confidence_Local>("CONFIDENCE - Local gradients", {App(R::IN_GRADIENTS), local});
         for (int last = 0; last < 2; last++)
             for (int parity = 0; parity < 2; parity++)
                 m_Temporal[last][parity] = builder.AddDispatch<passes::Confidence_Temporal>(
-                    "CONFIDENCE - Temporal", {filtered[last], viewZ, App(R::IN_MV), history[parity], history[1 - parity],
-                                              App(R::OUT_DIFF_CONFIDENCE), App(R::OUT_SPEC_CONFIDENCE)});
+                    "CONFIDENCE - Temporal", {filtered[last], viewZ, App(R::IN_MV), history[parity], local,
+                                              history[1 - parity], App(R::OUT_DIFF_CONFIDENCE), App(R::OUT_SPEC_CONFIDENCE)});
     }
 
     Result SetSettings(SettingsKind kind, const void* settings, const Logger& log) override
@@ -125,6 +137,15 @@ public:
             context.Dispatch(m_Filter[i], f, gradientWidth, gradientHeight);
         }
 
+        if (s.localGradientRadius > 0)
+        {
+            passes::Confidence_Local::Constants l = {};
+            context.FillCommonConstants(l);
+            l.gGradientSize = {gradientWidth, gradientHeight};
+            l.gRadius = int32_t(s.localGradientRadius);
+            context.Dispatch(m_Local, l, gradientWidth, gradientHeight);
+        }
+
         passes::Confidence_Temporal::Constants t = {};
         context.FillCommonConstants(t);
         t.gGradientSize = {gradientWidth, gradientHeight};
@@ -133,6 +154,7 @@ public:
         t.gSpecularGradientSensitivity = s.specularGradientSensitivity;
         t.gFallHistoryWeight = s.fallHistoryWeight;
         t.gRiseHistoryWeight = s.riseHistoryWeight;
+        t.gLocalRadius = s.localGradientRadius;
         const uint32_t last = (s.atrousPassNum - 1) & 1u;
         m_Parity = frame.resetHistory ? 0u : m_Parity ^ 1u;
         context.Dispatch(m_Temporal[last][m_Parity], t, frame.width, frame.height);
@@ -141,6 +163,7 @@ public:
 private:
     ConfidenceSettings m_Settings = {};
     uint32_t m_Filter[CONFIDENCE_MAX_ATROUS_PASS_NUM] = {};
+    uint32_t m_Local = 0;
     uint32_t m_Temporal[2][2] = {}; // [pool texture of the last filter pass][history parity]
     uint32_t m_Parity = 0;
 };

@@ -93,8 +93,9 @@ TEST_CASE("CONFIDENCE falls below 0.5 around a switched light within 2 frames", 
         }
         INFO(caught << " of " << changed << " changed pixels below 0.5");
         REQUIRE(changed > 200);
-        // Specular measured 87%: the lamp's highlights are a few pixels wide, below the 3x3 strata
-        // and the a-trous footprint, so their edges get diluted gradients.
+        // Specular measured 86.0% (87% without the local limit, localGradientRadius 0): the lamp's
+        // highlights are a few pixels wide, below the 3x3 strata and the a-trous footprint, so their
+        // edges get diluted gradients.
         const double required = std::string(signal) == "diffuse_confidence" ? 0.9 : 0.85;
         CHECK(double(caught) >= required * double(changed));
     }
@@ -220,11 +221,7 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE on every lighting scene and consumer
         for (const char* method : consumers)
         {
             const std::string sc = scene, m = method;
-            // fast_occluder REBLUR_SPECULAR: 1.011x (0.0434 -> 0.0439) since REBLUR's specular
-            // pre-pass (0.98x before it); pinned at its measured figure (README: not met).
-            const double maxRatio = sc == "fast_occluder" && m == "REBLUR_SPECULAR" ? 1.015 : 1.0;
-            CheckLightingChange({scene, method, 40}, sc == "light_switch" || (sc == "toggling_light" && m != "RELAX_SPECULAR"),
-                                maxRatio);
+            CheckLightingChange({scene, method, 40}, sc == "light_switch" || (sc == "toggling_light" && m != "RELAX_SPECULAR"));
         }
     for (const char* scene : {"static", "camera_translation", "mesh_engine"})
         for (const char* method : consumers)

@@ -76,6 +76,7 @@ TEST_CASE("ConfidenceSettings outside their ranges are rejected with the field's
         {"atrousPassNum", [](ConfidenceSettings& s) { s.atrousPassNum = CONFIDENCE_MAX_ATROUS_PASS_NUM + 1; }},
         {"depthThreshold", [](ConfidenceSettings& s) { s.depthThreshold = 1.5f; }},
         {"normalPower", [](ConfidenceSettings& s) { s.normalPower = -1.0f; }},
+        {"localGradientRadius", [](ConfidenceSettings& s) { s.localGradientRadius = CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS + 1; }},
     };
     for (const Bad& b : bad)
     {
@@ -89,7 +90,8 @@ TEST_CASE("ConfidenceSettings outside their ranges are rejected with the field's
     }
 }
 
-TEST_CASE("CONFIDENCE dispatches one a-trous pass per setting and one temporal pass; 1/3-resolution transients",
+TEST_CASE("CONFIDENCE dispatches one a-trous pass per setting, the local limit's pass and one temporal pass; "
+          "1/3-resolution transients",
           "[api][confidence]")
 {
     CoreDenoiser d(1920, 1080);
@@ -97,20 +99,28 @@ TEST_CASE("CONFIDENCE dispatches one a-trous pass per setting and one temporal p
     {
         ConfidenceSettings s;
         s.atrousPassNum = passes;
+        s.localGradientRadius = passes == 1 ? 0 : 3; // 0: no local pass.
+        const uint32_t local = s.localGradientRadius > 0 ? 1 : 0;
         REQUIRE(SetMethodSettings(*d.denoiser, kId, s) == Result::SUCCESS);
         REQUIRE(SetCommonSettings(*d.denoiser, test::StillCameraSettings(1)) == Result::SUCCESS);
         const DispatchDesc* dispatches = nullptr;
         uint32_t num = 0;
         REQUIRE(GetComputeDispatches(*d.denoiser, nullptr, 0, dispatches, num) == Result::SUCCESS);
-        REQUIRE(num == passes + 1);
+        REQUIRE(num == passes + local + 1);
         for (uint32_t i = 0; i < passes; i++)
         {
             CHECK(std::string(dispatches[i].name) == "CONFIDENCE - Filter gradients (step " + std::to_string(1 << i) + ")");
             CHECK(dispatches[i].gridWidth == (640u + 7u) / 8u); // 1920 / 3 strata in groups of 8.
         }
-        CHECK(std::string(dispatches[passes].name) == "CONFIDENCE - Temporal");
+        if (local)
+        {
+            CHECK(std::string(dispatches[passes].name) == "CONFIDENCE - Local gradients");
+            CHECK(dispatches[passes].gridWidth == (640u + 7u) / 8u);
+        }
+        CHECK(std::string(dispatches[passes + local].name) == "CONFIDENCE - Temporal");
     }
-    // Memory: two RG16f histories at full resolution, two RGBA16f transients at 1/3.
+    // Memory: two RG16f histories at full resolution, three RGBA16f transients at 1/3 (a-trous
+    // ping-pong, the local limit's box means).
     const DenoiserDesc& desc = GetDenoiserDesc(*d.denoiser);
     uint64_t permanent = 0, transient = 0;
     for (uint32_t i = 0; i < desc.permanentPoolSize; i++)
@@ -122,7 +132,7 @@ TEST_CASE("CONFIDENCE dispatches one a-trous pass per setting and one temporal p
                      ((1920u + desc.transientPool[i].downsampleX - 1) / desc.transientPool[i].downsampleX) *
                      ((1080u + desc.transientPool[i].downsampleY - 1) / desc.transientPool[i].downsampleY);
     CHECK(permanent == 2ull * 4 * 1920 * 1080);
-    CHECK(transient == 2ull * 8 * 640 * 360);
+    CHECK(transient == 3ull * 8 * 640 * 360);
 }
 
 namespace
@@ -237,6 +247,27 @@ struct CpuConfidence
         return g;
     }
 
+    // The local limit's box means over (2 r + 1)^2 strata, edge texels repeated, stored as RGBA16f.
+    std::vector<float> Box(const std::vector<float>& g) const
+    {
+        const int gw = ConfidenceRig::kGW, gh = ConfidenceRig::kGH, r = int(s.localGradientRadius);
+        const float n = float((2 * r + 1) * (2 * r + 1));
+        std::vector<float> out(g.size(), 0.0f);
+        for (int y = 0; y < gh; y++)
+            for (int x = 0; x < gw; x++)
+                for (int j = -r; j <= r; j++)
+                    for (int i = -r; i <= r; i++)
+                    {
+                        int qx = std::min(std::max(x + i, 0), gw - 1), qy = std::min(std::max(y + j, 0), gh - 1);
+                        for (int c = 0; c < 4; c++)
+                        {
+                            float v = g[(size_t(qy) * gw + qx) * 4 + c];
+                            out[(size_t(y) * gw + x) * 4 + c] += (std::isfinite(v) ? std::min(std::max(v, 0.0f), 65504.0f) : 0.0f) / n;
+                        }
+                    }
+        return test::Quantize(rhi::Format::RGBA16_SFLOAT, out);
+    }
+
     float Convert(float d, float l, int signal) const
     {
         float g = d / std::max(l, 1e-6f);
@@ -249,6 +280,7 @@ struct CpuConfidence
     {
         const int w = ConfidenceRig::kW, h = ConfidenceRig::kH, gw = ConfidenceRig::kGW, gh = ConfidenceRig::kGH;
         std::vector<float> f = Filter(gradients);
+        std::vector<float> box = Box(gradients);
         raw.assign(size_t(w) * h * 2, kNaN);
         result = raw;
         std::vector<float> next(size_t(w) * h * 2, 1.0f);
@@ -267,6 +299,25 @@ struct CpuConfidence
                         for (int c = 0; c < 4; c++)
                             g[c] += wt * f[(size_t(qy) * gw + qx) * 4 + c];
                     }
+                if (s.localGradientRadius > 0)
+                {
+                    // The box means of the unfiltered strata, interpolated as the filtered gradients.
+                    float local[4] = {};
+                    for (int j = 0; j < 2; j++)
+                        for (int i = 0; i < 2; i++)
+                        {
+                            int qx = std::min(std::max(ox + i, 0), gw - 1), qy = std::min(std::max(oy + j, 0), gh - 1);
+                            float wt = (i ? tx : 1.0f - tx) * (j ? ty : 1.0f - ty);
+                            for (int c = 0; c < 4; c++)
+                                local[c] += wt * box[(size_t(qy) * gw + qx) * 4 + c];
+                        }
+                    for (int c = 0; c < 4; c += 2)
+                        if (local[c] * std::max(g[c + 1], 1e-6f) < g[c] * std::max(local[c + 1], 1e-6f))
+                        {
+                            g[c] = local[c];
+                            g[c + 1] = local[c + 1];
+                        }
+                }
                 for (int c = 0; c < 2; c++)
                 {
                     size_t i = (size_t(y) * w + x) * 2 + c;
@@ -381,8 +432,11 @@ TEST_CASE("CONFIDENCE equals a CPU evaluation; zero gradients give exactly 1; th
             }
             if (frame == 2)
             {
-                // The switched-off corner (strata 0..2) is invalidated at once below 0.5.
+                // The switched-off corner (strata 0..2) is invalidated at once below 0.5; the far
+                // corner, within the a-trous footprint but 4 strata away, keeps exactly 1 (local limit).
                 CHECK(diff[size_t(4) * ConfidenceRig::kW + 2] < 0.5f);
+                CHECK(diff[size_t(ConfidenceRig::kH - 1) * ConfidenceRig::kW + ConfidenceRig::kW - 1] == 1.0f);
+                CHECK(spec[size_t(ConfidenceRig::kH - 1) * ConfidenceRig::kW + ConfidenceRig::kW - 1] == 1.0f);
             }
             previous = actual;
         }

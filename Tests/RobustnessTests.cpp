@@ -384,6 +384,8 @@ MethodTraits TraitsOf(Method method)
                           Edited<S>([](S& s) { s.riseHistoryWeight = -1e-6f; })}),
             SettingsCase("atrousPassNum 1", Edited<S>([](S& s) { s.atrousPassNum = 1; }),
                          {Edited<S>([](S& s) { s.atrousPassNum = 0; })}),
+            SettingsCase("localGradientRadius max", Edited<S>([](S& s) { s.localGradientRadius = CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS; }),
+                         {Edited<S>([](S& s) { s.localGradientRadius = CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS + 1; })}),
             SettingsCase("atrousPassNum max, edge stopping off",
                          Edited<S>([](S& s) { s.atrousPassNum = CONFIDENCE_MAX_ATROUS_PASS_NUM; s.depthThreshold = 0.0f; s.normalPower = 0.0f; }),
                          {Edited<S>([](S& s) { s.atrousPassNum = CONFIDENCE_MAX_ATROUS_PASS_NUM + 1; }),

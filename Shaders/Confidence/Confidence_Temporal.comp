@@ -35,6 +35,24 @@ void main()
              w.y * _Confidence_LoadGradient(gIn_Gradients, clamp(origin + ivec2(1, 0), ivec2(0), maxTexel)) +
              w.z * _Confidence_LoadGradient(gIn_Gradients, clamp(origin + ivec2(0, 1), ivec2(0), maxTexel)) +
              w.w * _Confidence_LoadGradient(gIn_Gradients, clamp(origin + ivec2(1, 1), ivec2(0), maxTexel));
+    // Local limit (gLocalRadius > 0): the normalized gradient is at most that of the unfiltered
+    // strata near the pixel, the means over (2 r + 1)^2 strata (Confidence_Local) interpolated as
+    // above. The a-trous filter spreads a change over 93 x 93 pixels, and on a surface where the
+    // change's sum of differences over the sum of luminances stays above the threshold (a moving
+    // shadow across a row of floor) every history of that region was cut where only a few strata
+    // changed (fast_occluder; Shaders/Confidence/README.md, "The local limit").
+    if (gLocalRadius != 0u)
+    {
+        vec4 local = w.x * texelFetch(sampler2D(gIn_Local, gNearestClamp), clamp(origin, ivec2(0), maxTexel), 0) +
+                     w.y * texelFetch(sampler2D(gIn_Local, gNearestClamp), clamp(origin + ivec2(1, 0), ivec2(0), maxTexel), 0) +
+                     w.z * texelFetch(sampler2D(gIn_Local, gNearestClamp), clamp(origin + ivec2(0, 1), ivec2(0), maxTexel), 0) +
+                     w.w * texelFetch(sampler2D(gIn_Local, gNearestClamp), clamp(origin + ivec2(1, 1), ivec2(0), maxTexel), 0);
+        // Each signal takes the smaller normalized gradient (difference and luminance as a pair).
+        if (local.x * max(g.y, 1e-6) < g.x * max(local.y, 1e-6))
+            g.xy = local.xy;
+        if (local.z * max(g.w, 1e-6) < g.z * max(local.w, 1e-6))
+            g.zw = local.zw;
+    }
     vec2 confidence = vec2(_Confidence_FromGradient(g.x, g.y, gGradientThreshold, gGradientSensitivity),
                            _Confidence_FromGradient(g.z, g.w, gGradientThreshold, gSpecularGradientSensitivity));
 

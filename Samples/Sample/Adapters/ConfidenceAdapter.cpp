@@ -68,6 +68,7 @@ public:
         ReadSetting(s, "atrousPassNum", c.atrousPassNum);
         ReadSetting(s, "depthThreshold", c.depthThreshold);
         ReadSetting(s, "normalPower", c.normalPower);
+        ReadSetting(s, "localGradientRadius", c.localGradientRadius);
         return true;
     }
     nrd::Result ApplySettings(nrd::Integration& integration, nrd::Identifier id) override
