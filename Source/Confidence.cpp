@@ -27,6 +27,8 @@ namespace
 {
 
 constexpr uint16_t kStratumSize = 3; // Document 003: one gradient per 3x3 pixels.
+// Confidence_Local.comp's shared tile holds an apron of CONFIDENCE_MAX_LOCAL_RADIUS (Confidence_Common.glsl).
+static_assert(CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS == 8, "Confidence_Common.glsl: CONFIDENCE_MAX_LOCAL_RADIUS");
 
 Result ValidateConfidenceSettings(const ConfidenceSettings& s, const Logger& log)
 {

@@ -5,6 +5,9 @@
 // Confidence at or above this is output as 1 (NRDSettings.h, ConfidenceSettings).
 #define CONFIDENCE_SNAP_TO_ONE 0.99
 
+// ConfidenceSettings::localGradientRadius at most (NRDSettings.h, CONFIDENCE_MAX_LOCAL_GRADIENT_RADIUS).
+#define CONFIDENCE_MAX_LOCAL_RADIUS 8
+
 // A gradient texel as the passes use it: non-finite and negative values count as 0 (no gradient),
 // huge ones are clamped so that sums of 9 weighted taps stay finite in fp16 storage.
 vec4 _Confidence_LoadGradient(texture2D t, ivec2 texel)
