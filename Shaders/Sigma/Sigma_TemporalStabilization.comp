@@ -8,10 +8,12 @@
 // on the same surface (a moving shadow cannot leave a ghost), shortens the history where clamping
 // had to move it (anti-lag) and blends with a per-pixel history length of at most
 // gMaxStabilizedFrameNum frames. Hard shadows (sub-pixel penumbra) keep history only where it needs
-// no resampling, and restart it where a shadow arrives or leaves. History = this frame's result,
-// stored with its viewZ, history length, whether this frame's sample was lit and whether a hard
-// shadow's departure restarted it (viewZ bits with the 5 low bits replaced by the length, bit 5 by
-// the sample, bit 6 by the restart).
+// no resampling, and restart it where a shadow arrives or leaves; in a tile where hard shadows
+// moved without motion vectors (many samples contradict settled histories, both ways) their pixels
+// output this frame's sample. History = this frame's result, stored with its viewZ, history length,
+// whether this frame's sample was lit, whether a hard shadow's departure restarted it and whether
+// its tile was moving (viewZ bits with the 5 low bits replaced by the length, bit 5 by the sample,
+// bit 6 by the restart, bit 7 by the moving tile).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -28,7 +30,9 @@
 #define HISTORY_SAMPLE_BIT 32u
 // Bit 6 of the packed viewZ: the history restarted there because a hard shadow left the pixel.
 #define HISTORY_DEPARTED_BIT 64u
-#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT))
+// Bit 7 of the packed viewZ: a hard shadow of a moving tile (see MovingTile).
+#define HISTORY_MOVING_BIT 128u
+#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT | HISTORY_MOVING_BIT))
 // Clamping box: mean +- SIGMA_SCALE * sigma. History length lost per unit of clamping displacement:
 // higher values follow moving shadows (moving lights and occluders) sooner at some cost in noise
 // on still ones (measured on the scene lab's static / moving_light / moving_occluder scenes).
@@ -38,6 +42,16 @@
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
+// Moving-tile test (see MovingTile): over the group's hard-shadow pixels, the expected number of
+// contradictions of a still view (x 1024), the contradictions with a neighbour contradicting the same
+// way (departures: lit under dark history; arrivals: dark under lit), and how many of the pixels were
+// in a moving tile the frame before.
+shared uint s_ExpectedContradictions;
+shared uint s_DepartureNum;
+shared uint s_ArrivalNum;
+shared uint s_WasMovingNum;
+shared uint s_PixelNum;
+shared int s_Contradiction[SIGMA_TILE_SIZE][SIGMA_TILE_SIZE]; // +1 departure, -1 arrival, 0 none
 
 SIGMA_TYPE LoadBlurred(ivec2 pixel)
 {
@@ -82,10 +96,10 @@ SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
     return _Sigma_Signal01(sum / weightSum);
 }
 
-uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted)
+uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving)
 {
     return (floatBitsToUint(viewZ) & HISTORY_VIEWZ_MASK) | min(uint(historyLength + 0.5), HISTORY_LENGTH_MASK) |
-           (isLit ? HISTORY_SAMPLE_BIT : 0u) | (isDeparted ? HISTORY_DEPARTED_BIT : 0u);
+           (isLit ? HISTORY_SAMPLE_BIT : 0u) | (isDeparted ? HISTORY_DEPARTED_BIT : 0u) | (isMoving ? HISTORY_MOVING_BIT : 0u);
 }
 
 // A hard shadow's pixel at 'q' of the previous frame (no resampling) with sample 'currentValue' now
@@ -101,12 +115,14 @@ int DepartureLevel(ivec2 q, SIGMA_TYPE currentValue, uint packed)
 // Marks a pixel without history (sky): its viewZ never matches.
 const uint kNoHistory = 0x7F7FFF80u; // ~3.4e38, length 0, flags clear
 
-void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current, bool isDeparted)
+// 'isPassed': the output is this frame's sample (the history keeps 'result').
+void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current, bool isDeparted,
+                 bool isPassed, bool isMoving)
 {
-    imageStore(gOut_ShadowTranslucency, pixel, vec4(result));
+    imageStore(gOut_ShadowTranslucency, pixel, vec4(isPassed ? current : result));
     imageStore(gHistory_Shadow, pixel, vec4(result));
     bool isLit = _Sigma_MaxComponent(current) >= 0.5;
-    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted)));
+    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted, isMoving)));
 }
 
 void main()
@@ -125,11 +141,19 @@ void main()
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
-            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value, false);
+            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value, false, false, false);
         }
         return;
     }
 
+    if (gl_LocalInvocationIndex == 0u)
+    {
+        s_ExpectedContradictions = 0u;
+        s_DepartureNum = 0u;
+        s_ArrivalNum = 0u;
+        s_WasMovingNum = 0u;
+        s_PixelNum = 0u;
+    }
     ivec2 groupOrigin = ivec2(gl_WorkGroupID.xy) * SIGMA_TILE_SIZE - BORDER;
     for (uint i = gl_LocalInvocationIndex; i < uint(SMEM_SIZE * SMEM_SIZE); i += uint(SIGMA_TILE_SIZE * SIGMA_TILE_SIZE))
     {
@@ -151,98 +175,185 @@ void main()
     }
     barrier();
 
+    ivec2 c = ivec2(gl_LocalInvocationID.xy) + BORDER;
+    float viewZ = isInside ? s_ViewZ[c.y][c.x] : 0.0;
+    bool isHardShadow = false;
+    SIGMA_TYPE current = SIGMA_TYPE(0.0);
+    SIGMA_TYPE m1 = SIGMA_TYPE(0.0);
+    SIGMA_TYPE sigma = SIGMA_TYPE(0.0);
+    SIGMA_TYPE minimum = SIGMA_TYPE(0.0);
+    SIGMA_TYPE maximum = SIGMA_TYPE(0.0);
+    ivec2 origin = ivec2(0);
+    vec2 f = vec2(0.0);
+    SIGMA_TYPE history = SIGMA_TYPE(0.0);
+    float historyLength = 0.0;
+    float historyWeight = 0.0;
+    int contradiction = 0;
+    if (viewZ != 0.0)
+    {
+        // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
+        // then exact away from edges, and history only helps (anti-aliasing) on a still view.
+        float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
+        isHardShadow = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0)) < 1.0;
+
+        vec2 uv = _NRD_PixelUv(pixel);
+        vec3 Xv = _NRD_ViewPosition(uv, viewZ);
+        vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
+        vec3 Nv = _Sigma_ViewNormal(N);
+        SigmaPlane plane = _Sigma_Plane(uv, viewZ, Nv);
+
+        // Neighbourhood statistics of the blurred current frame (5x5; sky and other surfaces excluded
+        // by plane distance, so a thin object's box is not widened by its background).
+        current = s_Signal[c.y][c.x];
+        SIGMA_TYPE m2 = SIGMA_TYPE(0.0);
+        minimum = current; // 3x3 range, for hard shadows
+        maximum = current;
+        float weightSum = 0.0;
+        for (int j = -BORDER; j <= BORDER; j++)
+        {
+            for (int i = -BORDER; i <= BORDER; i++)
+            {
+                float z = s_ViewZ[c.y + j][c.x + i];
+                float w = z == 0.0 ? 0.0 : _Sigma_NeighbourPlaneWeight(plane, i, j, z);
+                SIGMA_TYPE s = s_Signal[c.y + j][c.x + i];
+                m1 += s * w;
+                m2 += s * s * w;
+                weightSum += w;
+                if (abs(i) <= 1 && abs(j) <= 1 && w > 0.5)
+                {
+                    minimum = min(minimum, s);
+                    maximum = max(maximum, s);
+                }
+            }
+        }
+        m1 /= weightSum; // >= 1: the center has weight 1.
+        m2 /= weightSum;
+        sigma = sqrt(max(m2 - m1 * m1, SIGMA_TYPE(0.0)));
+
+        // Reprojection.
+        vec3 X = (gViewToWorld * vec4(Xv, 1.0)).xyz;
+        vec3 mv = texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz;
+        vec3 Xprev;
+        vec2 uvPrev = _NRD_PreviousUv(uv, X, mv, Xprev);
+        float expectedViewZ = _NRD_PreviousViewZ(Xprev);
+
+        // Disocclusion tolerance: relative depth, plus the depth change across the one pixel that
+        // separates a bilinear tap from the reprojected point on a surface seen at a grazing angle.
+        float NoV = abs(dot(Nv, normalize(Xv)));
+        float tolerance = _NRD_DisocclusionTolerance(viewZ, expectedViewZ, NoV, gDisocclusionThreshold, gProjectY);
+
+        // Bilinear footprint with per-tap disocclusion test.
+        vec2 footprint = uvPrev * vec2(gResourceSize) - 0.5;
+        origin = ivec2(floor(footprint));
+        f = footprint - floor(footprint);
+        float bilinear[4] = float[4]((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+        bool isValidUv = gResetHistory == 0u && !isnan(footprint.x) && !isnan(footprint.y) && abs(footprint.x) < 65536.0 &&
+                         abs(footprint.y) < 65536.0;
+        // A hard shadow keeps history only where it needs no resampling (still camera and surface): the
+        // input is as sharp as the truth there, and resampled history (even Catmull-Rom) would soften
+        // it. (Fading history out up to 3-pixel penumbrae instead helped rotating cameras and hurt
+        // translating ones by as much.)
+        vec2 subpixel = min(f, 1.0 - f);
+        isValidUv = isValidUv && !(isHardShadow && max(subpixel.x, subpixel.y) >= 0.01);
+        for (int k = 0; k < 4 && isValidUv; k++)
+        {
+            ivec2 q = origin + ivec2(k & 1, k >> 1);
+            if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)))
+                continue;
+            uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
+            float prevViewZ = uintBitsToFloat(packed & HISTORY_VIEWZ_MASK);
+            if (!(abs(prevViewZ - expectedViewZ) <= tolerance))
+                continue;
+            float w = bilinear[k];
+            history += LoadHistory(q) * w;
+            historyLength += float(packed & HISTORY_LENGTH_MASK) * w;
+            historyWeight += w;
+        }
+
+        // Moving-tile test, 1: the hard-shadow pixels whose history needs no resampling; on an edge
+        // (both samples in the 3x3 range) under settled history (within 1 - HARD_SHADOW_ARRIVAL of 0
+        // or 1), the chance that a still view's sample contradicts it (the history's distance to the
+        // nearer end, at least 0.03 and half of what a history of its length allows: 1 / (length +
+        // 2) by the rule of succession), and whether the sample does.
+        if (isHardShadow && historyWeight > 0.999)
+        {
+            ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
+            uint packedQ = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
+            atomicAdd(s_PixelNum, 1u);
+            if ((packedQ & HISTORY_MOVING_BIT) != 0u)
+                atomicAdd(s_WasMovingNum, 1u);
+            if (_Sigma_MaxComponent(maximum - minimum) >= 0.5)
+            {
+                SIGMA_TYPE h = history / historyWeight;
+                float settled = _Sigma_MaxComponent(min(h, 1.0 - h));
+                if (settled < 1.0 - HARD_SHADOW_ARRIVAL)
+                {
+                    float chance = max(settled, max(0.03, 0.5 / (historyLength / historyWeight + 2.0)));
+                    atomicAdd(s_ExpectedContradictions, uint(chance * 1024.0 + 0.5));
+                }
+                if (_Sigma_MaxComponent(current - h) > HARD_SHADOW_ARRIVAL)
+                    contradiction = 1;
+                else if (_Sigma_MaxComponent(h - current) > HARD_SHADOW_ARRIVAL)
+                    contradiction = -1;
+            }
+        }
+    }
+    // 2. Contradictions with a neighbour in the tile that contradicts the same way (a shadow edge that
+    // moved turns rows of pixels; a still penumbra's noise mostly single ones).
+    ivec2 t = ivec2(gl_LocalInvocationID.xy);
+    s_Contradiction[t.y][t.x] = contradiction;
+    barrier();
+    if (contradiction != 0)
+    {
+        bool isRow = false;
+        for (int j = -1; j <= 1; j++)
+        {
+            for (int i = -1; i <= 1; i++)
+            {
+                ivec2 n = clamp(t + ivec2(i, j), ivec2(0), ivec2(SIGMA_TILE_SIZE - 1));
+                isRow = isRow || (n != t && s_Contradiction[n.y][n.x] == contradiction);
+            }
+        }
+        if (isRow && contradiction > 0)
+            atomicAdd(s_DepartureNum, 1u);
+        else if (isRow)
+            atomicAdd(s_ArrivalNum, 1u);
+    }
+    barrier();
+    // 3. The tile's hard shadows moved without motion vectors (a turning light, moving stripes, an
+    // animated occluder's shadow on a still receiver) where they contradict their histories twice as
+    // often as a still view would, by at least 3, and both ways (departures and arrivals: a light
+    // switched on or off turns all of them one way, and the arrival and departure rules restart
+    // those); or, in a tile whose pixels were mostly in a moving tile the frame before, as often as a
+    // still view would, by at least 1.
+    float expected = float(s_ExpectedContradictions) / 1024.0;
+    float contradictionNum = float(s_DepartureNum + s_ArrivalNum);
+    bool isMovingTile = (min(s_DepartureNum, s_ArrivalNum) >= 2u && contradictionNum >= 2.0 * expected + 3.0) ||
+                        (contradictionNum >= expected + 1.0 && 2u * s_WasMovingNum > s_PixelNum);
+    // A hard shadow of a moving tile outputs its sample: a history of a shadow that moves a pixel or
+    // more a frame is worth little and leaves grey trails along every edge. A lit sample only where at
+    // least 3 of its 8 neighbours are lit too (a single lit sample in a dark penumbra is noise, and
+    // the costliest error there).
+    bool isPassed = false;
+    if (isHardShadow && isMovingTile)
+    {
+        int litNum = 0;
+        for (int j = -1; j <= 1; j++)
+        {
+            for (int i = -1; i <= 1; i++)
+                litNum += (i != 0 || j != 0) && _Sigma_MaxComponent(s_Signal[c.y + j][c.x + i]) >= 0.5 ? 1 : 0;
+        }
+        isPassed = _Sigma_MaxComponent(current) < 0.5 || litNum >= 3;
+    }
+
     if (!isInside)
         return;
-    ivec2 c = ivec2(gl_LocalInvocationID.xy) + BORDER;
-    float viewZ = s_ViewZ[c.y][c.x];
     if (viewZ == 0.0)
     {
         imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(kNoHistory));
         return; // Sky: output not written.
     }
 
-    // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
-    // then exact away from edges, and history only helps (anti-aliasing) on a still view.
-    float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
-    bool isHardShadow = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0)) < 1.0;
-
-    vec2 uv = _NRD_PixelUv(pixel);
-    vec3 Xv = _NRD_ViewPosition(uv, viewZ);
-    vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_NormalRoughness, gNearestClamp), pixel, 0)).xyz;
-    vec3 Nv = _Sigma_ViewNormal(N);
-    SigmaPlane plane = _Sigma_Plane(uv, viewZ, Nv);
-
-    // Neighbourhood statistics of the blurred current frame (5x5; sky and other surfaces excluded
-    // by plane distance, so a thin object's box is not widened by its background).
-    SIGMA_TYPE current = s_Signal[c.y][c.x];
-    SIGMA_TYPE m1 = SIGMA_TYPE(0.0);
-    SIGMA_TYPE m2 = SIGMA_TYPE(0.0);
-    SIGMA_TYPE minimum = current; // 3x3 range, for hard shadows
-    SIGMA_TYPE maximum = current;
-    float weightSum = 0.0;
-    for (int j = -BORDER; j <= BORDER; j++)
-    {
-        for (int i = -BORDER; i <= BORDER; i++)
-        {
-            float z = s_ViewZ[c.y + j][c.x + i];
-            float w = z == 0.0 ? 0.0 : _Sigma_NeighbourPlaneWeight(plane, i, j, z);
-            SIGMA_TYPE s = s_Signal[c.y + j][c.x + i];
-            m1 += s * w;
-            m2 += s * s * w;
-            weightSum += w;
-            if (abs(i) <= 1 && abs(j) <= 1 && w > 0.5)
-            {
-                minimum = min(minimum, s);
-                maximum = max(maximum, s);
-            }
-        }
-    }
-    m1 /= weightSum; // >= 1: the center has weight 1.
-    m2 /= weightSum;
-    SIGMA_TYPE sigma = sqrt(max(m2 - m1 * m1, SIGMA_TYPE(0.0)));
-
-    // Reprojection.
-    vec3 X = (gViewToWorld * vec4(Xv, 1.0)).xyz;
-    vec3 mv = texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz;
-    vec3 Xprev;
-    vec2 uvPrev = _NRD_PreviousUv(uv, X, mv, Xprev);
-    float expectedViewZ = _NRD_PreviousViewZ(Xprev);
-
-    // Disocclusion tolerance: relative depth, plus the depth change across the one pixel that
-    // separates a bilinear tap from the reprojected point on a surface seen at a grazing angle.
-    float NoV = abs(dot(Nv, normalize(Xv)));
-    float tolerance = _NRD_DisocclusionTolerance(viewZ, expectedViewZ, NoV, gDisocclusionThreshold, gProjectY);
-
-    // Bilinear footprint with per-tap disocclusion test.
-    vec2 footprint = uvPrev * vec2(gResourceSize) - 0.5;
-    ivec2 origin = ivec2(floor(footprint));
-    vec2 f = footprint - floor(footprint);
-    float bilinear[4] = float[4]((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
-    SIGMA_TYPE history = SIGMA_TYPE(0.0);
-    float historyLength = 0.0;
-    float historyWeight = 0.0;
-    bool isValidUv = gResetHistory == 0u && !isnan(footprint.x) && !isnan(footprint.y) && abs(footprint.x) < 65536.0 &&
-                     abs(footprint.y) < 65536.0;
-    // A hard shadow keeps history only where it needs no resampling (still camera and surface): the
-    // input is as sharp as the truth there, and resampled history (even Catmull-Rom) would soften
-    // it. (Fading history out up to 3-pixel penumbrae instead helped rotating cameras and hurt
-    // translating ones by as much.)
-    vec2 subpixel = min(f, 1.0 - f);
-    isValidUv = isValidUv && !(isHardShadow && max(subpixel.x, subpixel.y) >= 0.01);
-    for (int k = 0; k < 4 && isValidUv; k++)
-    {
-        ivec2 q = origin + ivec2(k & 1, k >> 1);
-        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)))
-            continue;
-        uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
-        float prevViewZ = uintBitsToFloat(packed & HISTORY_VIEWZ_MASK);
-        if (!(abs(prevViewZ - expectedViewZ) <= tolerance))
-            continue;
-        float w = bilinear[k];
-        history += LoadHistory(q) * w;
-        historyLength += float(packed & HISTORY_LENGTH_MASK) * w;
-        historyWeight += w;
-    }
 
     SIGMA_TYPE result = current;
     float newLength = 1.0;
@@ -318,5 +429,5 @@ void main()
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
     }
 
-    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted);
+    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed, isHardShadow && isMovingTile);
 }
