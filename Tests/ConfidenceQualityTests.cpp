@@ -194,6 +194,31 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE: relMSE no higher and the light no l
     for (const Case& c : halvedCases)
         CheckLightingChange(c, true);
     CheckLightingChange({"moving_light", "RELAX_SPECULAR", 24});
+    // fast_occluder's speculars: the box's shadow sweeps the far floor; the local limit keeps the
+    // a-trous filter from cutting the whole floor's histories (64x64: REBLUR_SPECULAR 1.011x ->
+    // 0.999x, RELAX_SPECULAR 1.004x -> 0.992x with localGradientRadius 3).
+    CheckLightingChange({"fast_occluder", "REBLUR_SPECULAR", 40});
+    CheckLightingChange({"fast_occluder", "RELAX_SPECULAR", 40});
+}
+
+TEST_CASE("A perfect restart of every history when the lamp toggles reads toggling_light RELAX_SPECULAR's trailing light as 4",
+          "[quality][confidence]")
+{
+    // The count's floor on toggling_light (its lamp toggles every 4 frames, the count stops at the
+    // next toggle): every history restarted on the frames of the toggles (no confidence) still
+    // reads 4 for RELAX_SPECULAR (a restarted history's mean is +1% of the truth's on its first two
+    // frames, -4% to -5% on the next two, against its -2% before), as the confidence does
+    // (Shaders/Confidence/README.md, Lag), so its halving is not asserted there.
+    nrdlab::RunOptions o = SmallRun("toggling_light", "RELAX_SPECULAR", 40);
+    o.settingsJson = R"({"common": {"restartFrames": [4, 8, 12, 16, 20, 24, 28, 32, 36]}})";
+    nrdlab::RunReport restarted = Run(o);
+    o.settingsJson.clear();
+    o.confidence = true;
+    nrdlab::RunReport withConfidence = Run(o);
+    INFO("restarted: relMSE " << restarted.mean.relmseDenoised << ", with confidence " << withConfidence.mean.relmseDenoised);
+    CHECK(MeanLag(restarted) == 4);
+    CHECK(MeanLag(withConfidence) == 4);
+    CHECK(withConfidence.mean.relmseDenoised < restarted.mean.relmseDenoised);
 }
 
 TEST_CASE("REBLUR and RELAX with CONFIDENCE: relMSE within 5% where lighting does not change", "[quality][confidence]")
@@ -234,11 +259,16 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE on every lighting scene and consumer
 
 TEST_CASE("REBLUR and RELAX with CONFIDENCE at 128x128 where lighting changes", "[confidence_128]")
 {
-    // Label slow: the four consumers on the light switch and the toggled light at 128x128 (truth
-    // 64 spp), the trailing light halved as at 64x64 (Shaders/Confidence/README.md's H100 table).
+    // Label slow: the four consumers on the light switch and the toggled light and fast_occluder's
+    // speculars at 128x128 (truth 64 spp), the trailing light halved as at 64x64
+    // (Shaders/Confidence/README.md's H100 table).
     const char* const consumers[] = {"REBLUR_DIFFUSE", "RELAX_DIFFUSE", "REBLUR_SPECULAR", "RELAX_SPECULAR"};
     for (const char* scene : {"light_switch", "toggling_light"})
         for (const char* method : consumers)
             CheckLightingChange({scene, method, 40, 128},
                                 std::string(scene) == "light_switch" || std::string(method) != "RELAX_SPECULAR");
+    // fast_occluder's speculars at 128x128: RELAX_SPECULAR 0.989x; REBLUR_SPECULAR 1.004x (H100, truth
+    // 64 spp: 1.006x), pinned at its measured figure (README, "The local limit": not met at 128x128).
+    CheckLightingChange({"fast_occluder", "RELAX_SPECULAR", 40, 128});
+    CheckLightingChange({"fast_occluder", "REBLUR_SPECULAR", 40, 128}, false, 1.006);
 }
