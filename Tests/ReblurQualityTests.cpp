@@ -67,10 +67,9 @@ struct Shortfall
 const Shortfall kShortfalls[] = {
     {"light_switch", "diffuse", 64, 0.0, 0.0, 0.0, 8},         // lag 8 (ratio 12.06, FLIP 0.0935 -> 0.0555, bias +0.2%)
     // 128x128, 40 frames, truth 64 spp (the same runs on the H100: Shaders/Reblur/README.md).
-    {"mesh_engine", "diffuse", 128, 2.2, 0.0, 0.0, 0},       // ratio 2.31 (bar 3.00)
-    {"mesh_thin", "diffuse", 128, 2.47, 0.0, 0.0, 0},        // ratio 2.59 (bar 3.00)
+    {"mesh_engine", "diffuse", 128, 2.6, 0.0, 0.0, 0},       // ratio 2.73 (bar 3.00)
     {"mesh_thin", "specular", 128, 2.11, 0.0, 0.0, 0},       // ratio 2.21 (bar 3.23)
-    {"venetian_blinds", "diffuse", 128, 1.56, 0.0, 0.0, 0},  // ratio 1.64 (bar 3.00)
+    {"venetian_blinds", "diffuse", 128, 1.96, 0.0, 0.0, 0},  // ratio 2.06 (bar 3.00)
 };
 // clang-format on
 
@@ -199,9 +198,13 @@ TEST_CASE("REBLUR with checkerboard input stays within its measured factor of th
         std::printf("REBLUR %s checkerboard relMSE %.5f, full rate %.5f\n", signal, half.mean.relmseDenoised,
                     full.mean.relmseDenoised);
         INFO(signal);
-        // The bar is 1.5x. Specular meets it (1.32x, with its default pre-pass); diffuse does not
-        // yet: measured 1.52x, pinned 5% above (Shaders/Reblur/README.md).
-        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 1.59 : 1.5) * full.mean.relmseDenoised);
+        // The bar is 1.5x. Specular meets it (1.32x, with its default pre-pass); diffuse does not:
+        // measured 1.77x, pinned 5% above (Shaders/Reblur/README.md). Its full-rate error fell by
+        // a fifth with the luminance weight of the spatial passes (0.00470 -> 0.00375), the
+        // checkerboard one by 7% (0.00711 -> 0.00662; the factor was 1.52x). A running mean of
+        // half the samples has twice the variance at every measured frame here (frames 9-24, no
+        // history at its 30-frame limit yet): 2x is the bound of what the history alone gives.
+        CHECK(half.mean.relmseDenoised <= (signal == std::string("diffuse") ? 1.85 : 1.5) * full.mean.relmseDenoised);
     }
 }
 

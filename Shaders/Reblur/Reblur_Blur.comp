@@ -38,6 +38,48 @@ void Store(ivec2 pixel, vec4 v)
     imageStore(gOut_Signal, pixel, v);
 }
 
+// Diffuse: variance of a pixel's accumulated luminance, from the per-pixel deviation of its samples
+// (the fast channel, Reblur_TemporalAccumulation.comp) over its history length.
+float MeanVariance(ivec2 p)
+{
+    vec2 sigmaLength = texelFetch(sampler2D(gIn_Fast, gNearestClamp), p, 0).xy;
+    float sigma = max(_NRD_Sanitize(sigmaLength.x, 0.0), 0.0);
+    return sigma * sigma / max(_NRD_Sanitize(sigmaLength.y, 0.0), 1.0);
+}
+
+// Diffuse: weight of a neighbour whose accumulated luminance differs from the centre's by more than
+// both means' noise allows (REBLUR_LUMA_WEIGHT_SIGMA standard deviations): shadows and stripes
+// narrower than the kernel (venetian_blinds, mesh_thin) are not noise, and the geometry weights
+// cannot see them.
+float LumaWeight(float lumaC, float varianceC, float lumaQ, float varianceQ)
+{
+#if REBLUR_SPECULAR || REBLUR_OCCLUSION
+    return 1.0;
+#else
+    float d = lumaQ - lumaC;
+    float tolerance = REBLUR_LUMA_WEIGHT_SIGMA * REBLUR_LUMA_WEIGHT_SIGMA * (varianceC + varianceQ) +
+                      1e-4 * lumaC * lumaC + 1e-8;
+    return exp(-0.5 * d * d / tolerance);
+#endif
+}
+
+// The luminance-weighted result (sum, weightSum) where the centre has neighbours of its luminance,
+// the geometry-only one (sumG, weightSumG) where it has (almost) none: a pixel unlike all of its
+// neighbours is more likely a rare bright or dark sample than a feature, and a luminance weight
+// alone would keep it (scattered single pixels on roughness_sweep and sky). 'centerWeight' is the
+// centre's part of both sums.
+vec4 IsolationBlend(vec4 sum, float weightSum, vec4 sumG, float weightSumG, float centerWeight, float k)
+{
+    vec4 resultG = weightSumG > 0.0 ? _Reblur_Decompress(sumG / weightSumG, k) : vec4(0.0);
+#if REBLUR_SPECULAR || REBLUR_OCCLUSION
+    return resultG;
+#else
+    vec4 result = weightSum > 0.0 ? _Reblur_Decompress(sum / weightSum, k) : resultG;
+    float share = (weightSum - centerWeight) / max(weightSumG - centerWeight, 1e-6);
+    return weightSumG - centerWeight > 1e-6 ? mix(resultG, result, smoothstep(REBLUR_LUMA_ISOLATED_LOW, REBLUR_LUMA_ISOLATED_HIGH, share)) : result;
+#endif
+}
+
 // History fix (document 004, REBLUR: "history fix"), run by the blur where the history is shorter
 // than gHistoryFixFrameNum frames (disocclusion, anti-lag, confidence): a 5x5 sparse grid whose stride
 // shrinks as the history grows (the history a confidence input took, the debt, counts as grown),
@@ -49,6 +91,11 @@ vec4 HistoryFix(ivec2 pixel, ReblurSurface s, vec4 center, float historyLength)
     float k = _Reblur_CompressionK(s.roughness);
     vec4 sum = _Reblur_Compress(center, k);
     float weightSum = 1.0;
+    vec4 sumG = sum;
+    float weightSumG = 1.0;
+#if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
+    float lumaC = _Reblur_Luma(center), varianceC = MeanVariance(pixel);
+#endif
     for (int j = -2; j <= 2; j++)
     {
         for (int i = -2; i <= 2; i++)
@@ -70,12 +117,19 @@ vec4 HistoryFix(ivec2 pixel, ReblurSurface s, vec4 center, float historyLength)
             float w = _Reblur_GeometryWeight(s, Xs, Ns, nr.w) * exp(-0.25 * float(i * i + j * j));
             if (w > 0.0)
             {
-                sum += _Reblur_Compress(v, k) * w;
-                weightSum += w;
+#if REBLUR_SPECULAR || REBLUR_OCCLUSION
+                float wl = 1.0;
+#else
+                float wl = LumaWeight(lumaC, varianceC, _Reblur_Luma(v), MeanVariance(q));
+#endif
+                sumG += _Reblur_Compress(v, k) * w;
+                weightSumG += w;
+                sum += _Reblur_Compress(v, k) * (w * wl);
+                weightSum += w * wl;
             }
         }
     }
-    return _Reblur_Decompress(sum / weightSum, k);
+    return IsolationBlend(sum, weightSum, sumG, weightSumG, 1.0, k);
 }
 
 void main()
@@ -123,7 +177,13 @@ void main()
     float centerWeight = isTraced ? 1.0 : 0.0;
     vec4 sum = _Reblur_Compress(center, k) * centerWeight;
     float weightSum = centerWeight;
+    vec4 sumG = sum;
+    float weightSumG = weightSum;
     float hitDistScale = 1.0 / max(center.w, 0.05);
+#if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
+    bool isLumaWeighted = !isPrePass;
+    float lumaC = _Reblur_Luma(center), varianceC = isLumaWeighted ? MeanVariance(pixel) : 0.0;
+#endif
     for (int t = 0; t < TAPS; t++)
     {
         float r = sqrt((float(t) + 0.5) / float(TAPS));
@@ -153,10 +213,18 @@ void main()
         // Diffuse: a neighbour whose occluders are at another distance is lit differently (contact
         // shadows, corners); the accumulated hit distance is smooth enough to compare.
         w *= clamp(1.0 - abs(v.w - center.w) * hitDistScale, 0.0, 1.0);
+        sumG += _Reblur_Compress(v, k) * w;
+        weightSumG += w;
+        if (isLumaWeighted && w > 0.0)
+            w *= LumaWeight(lumaC, varianceC, _Reblur_Luma(v), MeanVariance(q));
 #endif
         sum += _Reblur_Compress(v, k) * w;
         weightSum += w;
     }
+#if REBLUR_SPECULAR || REBLUR_OCCLUSION
     vec4 result = weightSum > 0.0 ? _Reblur_Decompress(sum / weightSum, k) : center;
+#else
+    vec4 result = weightSumG > 0.0 ? IsolationBlend(sum, weightSum, sumG, weightSumG, centerWeight, k) : center;
+#endif
     Store(pixel, _NRD_ClampToHalf(result));
 }

@@ -44,12 +44,36 @@
 // camera's motion in pixels (each resampling of the stabilized history blurs it a little more).
 #define REBLUR_STABILIZATION_MOTION_SCALE 4.0
 
+
 // Diffuse anti-lag: radius of the input neighbourhood whose mean is compared with the same mean of
 // the previous history (2: 5x5), and the tolerance in units of that mean's expected noise
 // (relative to gAntilagSigmaScale). Neighbours count where their viewZ is within 4 times
 // gDisocclusionThreshold plus 2 pixels' footprint per pixel of distance (the same surface, any slope).
 #define REBLUR_ANTILAG_RADIUS 2
 #define REBLUR_DIFFUSE_ANTILAG_NOISE_SCALE 0.67
+
+// Diffuse per-pixel anti-lag (Reblur_TemporalAccumulation.comp). z^2: a sample's squared difference
+// from its own history in units of the history's per-pixel deviation (the fast channel), capped at
+// CAP. The history is cut where the mean z^2 of the 8 neighbours exceeds CHI and the pixel's own
+// z^2 exceeds SELF, to its length times
+// (mean / CHI)^-POWER. The deviation is a running mean over at least MOMENT_FRAMES samples.
+// Lower CHI / SELF follow moving stripes sooner and cut still scenes' histories at rare samples
+// (128x128, lavapipe: CHI 2 / SELF 4: venetian_blinds 0.0339, sky 0.00037; 1.4 / 2: 0.0303,
+// 0.00037; without SELF, CHI 2: 0.0310, sky 0.00040).
+#define REBLUR_PIXEL_ANTILAG_CAP 9.0
+#define REBLUR_PIXEL_ANTILAG_CHI 1.4
+#define REBLUR_PIXEL_ANTILAG_SELF 2.0
+#define REBLUR_PIXEL_ANTILAG_POWER 4.0
+#define REBLUR_PIXEL_ANTILAG_MOMENT_FRAMES 8.0
+
+// Diffuse blur and history fix (Reblur_Blur.comp): a neighbour's weight falls as a Gaussian of its
+// accumulated luminance's difference from the centre's, in units of SIGMA standard deviations of
+// the two means (per-pixel deviation^2 / history length). Where the luminance-weighted neighbours
+// carry less than ISOLATED_LOW of the geometric weight, the centre is taken for a rare sample and
+// the geometric result is used (up to ISOLATED_HIGH: a blend).
+#define REBLUR_LUMA_WEIGHT_SIGMA 3.0
+#define REBLUR_LUMA_ISOLATED_LOW 0.2
+#define REBLUR_LUMA_ISOLATED_HIGH 0.5
 
 // Confidence debt (the frames of history a confidence input took, up to gHistoryFixFrameNum), stored
 // in R8 UNORM as debt / REBLUR_MAX_HISTORY_FIX_FRAME_NUM (NRDSettings.h: 3).

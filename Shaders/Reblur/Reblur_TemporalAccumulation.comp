@@ -174,8 +174,10 @@ void main()
     // previous slow history (25 samples: a 20% lighting change stands out of 1-sample noise within
     // a frame, where a per-pixel fast history of single samples could not tell it from noise
     // before the slow history had mostly followed anyway: light_switch, moving_light). The fast
-    // channel holds that mean.
-    float fastSample = count > 0.0 ? m1 : luma;
+    // channel holds the per-pixel deviation of the samples the slow history accumulated (see the
+    // per-pixel test below); a new history starts from this frame's 5x5 deviation.
+    float fastSample = sigma;
+    bool isPixelCut = false;
 #endif
 
     if (historyLength == 0.0)
@@ -242,6 +244,73 @@ void main()
         // in the decision is small).
         float fastNow = m1;
         float noise = (sigma / sqrt(count) + 0.005 * max(m1, reference) + 1e-4) * REBLUR_DIFFUSE_ANTILAG_NOISE_SCALE * max(confidence, 0.05);
+
+        // Per-pixel test: shadows and stripes narrower than the 5x5 window (venetian_blinds,
+        // mesh_thin's legs) move over still surfaces without changing that window's mean. Each 3x3
+        // neighbour's sample is compared with its own history (the nearest previous texel, on the
+        // same surface) in units of that history's per-pixel deviation (the fast channel, from the
+        // samples it accumulated: the stripes themselves are not noise there, as they are in a
+        // spatial deviation); squared, capped at REBLUR_PIXEL_ANTILAG_CAP (one outlier of a
+        // heavy-tailed sample cannot decide alone) and averaged.
+        {
+            ivec2 nearest = rp.surface.footprint.origin + ivec2(greaterThanEqual(rp.surface.footprint.f, vec2(0.5)));
+            float zTolerance1 = gDisocclusionThreshold * 4.0 * viewZ + 2.0 * viewZ / max(gProjectY, NRD_EPS);
+            float zTolerancePrev = gDisocclusionThreshold * 4.0 * rp.expectedViewZ + 2.0 * rp.expectedViewZ / max(gProjectY, NRD_EPS);
+            float chi = 0.0, chiCount = 0.0, chiSelf = 0.0;
+            for (int j = -1; j <= 1; j++)
+            {
+                for (int i = -1; i <= 1; i++)
+                {
+                    ivec2 q = pixel + ivec2(i, j);
+                    ivec2 p = nearest + ivec2(i, j);
+                    if (any(lessThan(min(q, p), ivec2(0))) || any(greaterThanEqual(max(q, p), size)) || !_Reblur_IsTraced(q))
+                        continue;
+                    vec4 sq = texelFetch(sampler2D(gIn_Signal, gNearestClamp), q, 0);
+#if REBLUR_OCCLUSION
+                    sq = sq.xxxx;
+#endif
+                    float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+                    float zp = texelFetch(sampler2D(gPrev_ViewZ, gNearestClamp), p, 0).x;
+                    if (!_NRD_IsFinite(sq) || !(abs(zq - viewZ) <= zTolerance1) || !(abs(zp - rp.expectedViewZ) <= zTolerancePrev))
+                        continue;
+                    vec2 sigmaLength = texelFetch(sampler2D(gPrev_Fast, gNearestClamp), p, 0).xy;
+                    float n = clamp(_NRD_Sanitize(sigmaLength.y, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
+                    if (n < 2.0)
+                        continue;
+                    float mu = _Reblur_Luma(_Reblur_Sanitize(texelFetch(sampler2D(gPrev_History, gNearestClamp), p, 0)));
+                    float sigmaP = max(_NRD_Sanitize(sigmaLength.x, 0.0), 0.0);
+                    // A sample against the mean of n: the difference's variance is sigma^2 (1 + 1 / n).
+                    float variance = sigmaP * sigmaP * (1.0 + 1.0 / n) + 1e-4 * mu * mu + 1e-8;
+                    float d = _Reblur_Luma(_Reblur_Sanitize(sq)) - mu;
+                    float z2 = min(d * d / variance, REBLUR_PIXEL_ANTILAG_CAP);
+                    if (i == 0 && j == 0)
+                    {
+                        chiSelf = z2;
+                        continue;
+                    }
+                    chi += z2;
+                    chiCount += 1.0;
+                }
+            }
+            // The neighbours decide, the pixel's own sample must disagree too: a rare bright sample
+            // then cuts neither its neighbours' histories nor its own (a history cut at a rare
+            // sample kept it: sky and roughness_sweep, +15% relMSE when the pixel took part in the
+            // mean). Fewer neighbours (checkerboard: the 4 diagonal ones; edges) give a noisier
+            // mean and a higher limit (checkerboard static 128x128: +4% relMSE with the limit of 8).
+            // The confidence does not narrow this test: it shortened the history already, to no
+            // less than NRD_CONFIDENCE_MIN_HISTORY frames, which a narrower test cut further
+            // (toggling_light 64x64 relMSE with confidence 1.02x the run without, 0.98x now).
+            float chiLimit = REBLUR_PIXEL_ANTILAG_CHI * (1.0 + 4.0 / max(chiCount, 1.0)) / 1.5;
+            float pixelExcess = chiCount >= 2.0 && chiSelf >= REBLUR_PIXEL_ANTILAG_SELF ? chi / (chiCount * chiLimit) - 1.0 : 0.0;
+            if (pixelExcess > 0.0)
+            {
+                // Cut hard (stripes that move a pixel every few frames need a history of a few
+                // frames); the slow value is kept: this frame's sample gets the weight of the shorter history.
+                float keep = pow(1.0 + pixelExcess, -REBLUR_PIXEL_ANTILAG_POWER);
+                historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
+                isPixelCut = true;
+            }
+        }
 #endif
         float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise) - 1.0;
         if (excess > 0.0)
@@ -273,13 +342,26 @@ void main()
     // Accumulation (checkerboard: untraced pixels keep their history).
     bool isSampled = isTraced || historyLength == 0.0 || (gFlags & REBLUR_FLAG_PREPASS) != 0u;
     float newLength = min(historyLength + (isSampled ? 1.0 : 0.0), maxLength);
+    vec4 slowBefore = slow;
     if (isSampled)
     {
         slow = mix(slow, current, 1.0 / newLength);
 #if REBLUR_SPECULAR
         fast = mix(fast, fastSample, 1.0 / max(min(newLength, gMaxFastAccumulatedFrameNum + 1.0), 1.0));
 #else
-        fast = fastSample;
+        // Per-pixel deviation of the samples: running mean of the squared difference between each
+        // sample and the history before it, over at least REBLUR_PIXEL_ANTILAG_MOMENT_FRAMES frames
+        // (a history cut keeps the deviation it had: from a few samples it would be too noisy for
+        // the test above, whose false detections would cut again). A change the test found is not
+        // noise: the deviation stays as it was.
+        if (newLength > 1.0 && !isPixelCut)
+        {
+            float d = luma - _Reblur_Luma(slowBefore);
+            fast = sqrt(mix(fast * fast, d * d, 1.0 / max(newLength, REBLUR_PIXEL_ANTILAG_MOMENT_FRAMES)));
+        }
+        // The stabilized luminance restarts where the test found a change.
+        if (isPixelCut)
+            stabilized = _Reblur_Luma(slow);
 #endif
     }
 
