@@ -102,6 +102,15 @@
 // In a still view, a shadowed pixel with at most this many shadowed neighbours, two of them opposite
 // each other through it, is a thin shadow (see isSharpShadow).
 #define TS_THIN_SHADOW_NEIGHBORS 3
+// A dark pixel (blended result below TS_DARK_RESULT) in sharp structure is output as sampled while its
+// history is shorter than TS_SHARP_SAMPLES: the variance boost of a short history would spread the
+// light around it into the umbra (a light switched on again, a restarted history).
+#define TS_SHARP_SAMPLES 8.0
+#define TS_DARK_RESULT 0.1
+// Under motion, a lit sample whose blended result and temporal mean both exceed TS_SETTLED_LIT, over
+// at least TS_SETTLED_LIT_SAMPLES samples, is output as it is (see isSettledLit).
+#define TS_SETTLED_LIT 0.98
+#define TS_SETTLED_LIT_SAMPLES 3.0
 // Under motion, a pixel with a neighbour whose normal makes a cosine below this with its own (26
 // degrees: a crease, a silhouette, detail finer than a pixel) takes its sample (see isTurned).
 #define TS_TURNED_NORMAL_COS 0.9
@@ -688,8 +697,12 @@ void main()
         // its outline is as long as it is, so the 9x9 window changes value about as often as noise of
         // its mean would (a straight line about 0.64 times, a diagonal one more), and the filter
         // would wash it out (the legs' shadows of mesh_thin, the slats of venetian_blinds).
+        // A dark pixel whose history is still short (TS_SHARP_SAMPLES) counts too: from
+        // TS_SPATIAL_BOOST_SAMPLES on, the variance boost still spreads the light around it into it
+        // (a lamp switched on again after a few frames).
         bool isSharpShadow = sample0 == 0.0 &&
-                             (isMoving || samples < TS_SPATIAL_BOOST_SAMPLES || (isUnlikely && support < TS_CONTRADICTION * footprint)) &&
+                             (isMoving || samples < TS_SPATIAL_BOOST_SAMPLES || (samples < TS_SHARP_SAMPLES && result < TS_DARK_RESULT) ||
+                              (isUnlikely && support < TS_CONTRADICTION * footprint)) &&
                              !IsNoisyPattern(near);
         if (isSharpShadow)
         {
@@ -704,6 +717,13 @@ void main()
         // casts on itself and next to itself are sharp). The history restarts from the sample,
         // which is output. (Requiring 3 such neighbours instead of one: relMSE ratio input / output
         // on mesh_engine at 64x64 0.42 instead of 0.92, camera_translation 0.83 instead of 0.92.)
+        // Under motion, a lit sample that the blended result and the temporal mean of at least
+        // TS_SETTLED_LIT_SAMPLES samples agree with (TS_SETTLED_LIT) is exact: the resampled history is
+        // short and its variance boosted, and the filter would only take from the dark side of a
+        // nearby hard edge (up to 0.2 of a lit pixel next to one). In a still view 3 lit samples are
+        // weak evidence (one pixel in 8 of binary noise of mean 0.5), and a longer history needs no rule.
+        bool isSettledLit = isMoving && sample0 != 0.0 && result > TS_SETTLED_LIT && temporalMean > TS_SETTLED_LIT &&
+                            samples >= TS_SETTLED_LIT_SAMPLES;
         bool isTurned = false;
         for (int i = 0; i < 9 && isMoving && !isTurned; i++)
         {
@@ -717,7 +737,7 @@ void main()
             temporalMean = sample0;
             samples = 1.0;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledLit)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
