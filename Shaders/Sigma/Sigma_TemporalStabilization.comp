@@ -189,6 +189,7 @@ void main()
     float historyLength = 0.0;
     float historyWeight = 0.0;
     int contradiction = 0;
+    bool wasLit = false;
     if (viewZ != 0.0)
     {
         // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
@@ -282,6 +283,7 @@ void main()
             atomicAdd(s_PixelNum, 1u);
             if ((packedQ & HISTORY_MOVING_BIT) != 0u)
                 atomicAdd(s_WasMovingNum, 1u);
+            wasLit = (packedQ & HISTORY_SAMPLE_BIT) != 0u;
             if (_Sigma_MaxComponent(maximum - minimum) >= 0.5)
             {
                 SIGMA_TYPE h = history / historyWeight;
@@ -331,9 +333,9 @@ void main()
     bool isMovingTile = (min(s_DepartureNum, s_ArrivalNum) >= 2u && contradictionNum >= 2.0 * expected + 3.0) ||
                         (contradictionNum >= expected + 1.0 && 2u * s_WasMovingNum > s_PixelNum);
     // A hard shadow of a moving tile outputs its sample: a history of a shadow that moves a pixel or
-    // more a frame is worth little and leaves grey trails along every edge. A lit sample only where at
-    // least 3 of its 8 neighbours are lit too (a single lit sample in a dark penumbra is noise, and
-    // the costliest error there).
+    // more a frame is worth little and leaves grey trails along every edge. A lit sample only where
+    // at least 2 of its 8 neighbours are lit too or it was lit the frame before (a single lit sample
+    // in a dark penumbra is noise, and the costliest error there).
     bool isPassed = false;
     if (isHardShadow && isMovingTile)
     {
@@ -343,7 +345,7 @@ void main()
             for (int i = -1; i <= 1; i++)
                 litNum += (i != 0 || j != 0) && _Sigma_MaxComponent(s_Signal[c.y + j][c.x + i]) >= 0.5 ? 1 : 0;
         }
-        isPassed = _Sigma_MaxComponent(current) < 0.5 || litNum >= 3;
+        isPassed = _Sigma_MaxComponent(current) < 0.5 || litNum >= 2 || wasLit;
     }
 
     if (!isInside)
