@@ -124,16 +124,18 @@ void main()
         return;
     }
 
-    // 3a. Dense 5x5 (the center has weight 1).
+    // 3a. Dense 5x5 (the center has weight 1; distances: _Sigma_DenseDistance2).
     SIGMA_TYPE sum = SIGMA_TYPE(0.0);
     float weightSum = 0.0;
+    SigmaDenseKernel denseKernel = _Sigma_DenseKernel(Xv, viewZ, Nv, radius * viewZ / gProjectY);
     float invRadius2 = 1.0 / (radius * radius);
     for (int j = -BORDER; j <= BORDER; j++)
     {
         for (int i = -BORDER; i <= BORDER; i++)
         {
-            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) *
-                      geometryWeights[(j + BORDER) * (2 * BORDER + 1) + i + BORDER];
+            float g = geometryWeights[(j + BORDER) * (2 * BORDER + 1) + i + BORDER];
+            float d2 = _Sigma_DenseDistance2(float(i * i + j * j) * invRadius2, denseKernel, i, j, s_ViewZ[c.y + j][c.x + i]);
+            float w = g == 0.0 ? 0.0 : _Sigma_KernelWeight(d2) * g;
             sum += s_Signal[c.y + j][c.x + i] * w;
             weightSum += w;
         }

@@ -33,6 +33,7 @@ SIGMA_TYPE Filter(ivec2 pixel, float viewZ, SIGMA_TYPE center, float radius)
     SIGMA_TYPE sum = center;
     float weightSum = 1.0;
     float invRadius2 = 1.0 / (radius * radius);
+    SigmaDenseKernel denseKernel = _Sigma_DenseKernel(Xv, viewZ, Nv, radius * viewZ / gProjectY);
 
     // Dense 3x3.
     for (int j = -1; j <= 1; j++)
@@ -45,7 +46,8 @@ SIGMA_TYPE Filter(ivec2 pixel, float viewZ, SIGMA_TYPE center, float radius)
             float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
             if (_NRD_IsSky(z))
                 continue;
-            float w = _Sigma_KernelWeight(float(i * i + j * j) * invRadius2) * _Sigma_NeighbourPlaneWeight(plane, i, j, z);
+            float d2 = _Sigma_DenseDistance2(float(i * i + j * j) * invRadius2, denseKernel, i, j, z);
+            float w = _Sigma_KernelWeight(d2) * _Sigma_NeighbourPlaneWeight(plane, i, j, z);
             sum += LoadBlurred(q) * w;
             weightSum += w;
         }
