@@ -261,7 +261,7 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE at 128x128 where lighting changes", 
 {
     // Label slow: the four consumers on the light switch and the toggled light and fast_occluder's
     // speculars at 128x128 (truth 64 spp), the trailing light halved as at 64x64
-    // (Shaders/Confidence/README.md's H100 table).
+    // (Shaders/Confidence/README.md's H100 tables).
     const char* const consumers[] = {"REBLUR_DIFFUSE", "RELAX_DIFFUSE", "REBLUR_SPECULAR", "RELAX_SPECULAR"};
     for (const char* scene : {"light_switch", "toggling_light"})
         for (const char* method : consumers)
