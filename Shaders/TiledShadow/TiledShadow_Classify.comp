@@ -107,10 +107,10 @@
 // light around it into the umbra (a light switched on again, a restarted history).
 #define TS_SHARP_SAMPLES 8.0
 #define TS_DARK_RESULT 0.1
-// Under motion, a lit sample whose blended result and temporal mean both exceed TS_SETTLED_LIT, over
-// at least TS_SETTLED_LIT_SAMPLES samples, is output as it is (see isSettledLit).
-#define TS_SETTLED_LIT 0.98
-#define TS_SETTLED_LIT_SAMPLES 3.0
+// Under motion, a sample whose blended result and temporal mean are both within TS_SETTLED_MOVING of
+// it, over at least TS_SETTLED_MOVING_SAMPLES samples, is output as it is (see isSettledMoving).
+#define TS_SETTLED_MOVING 0.02
+#define TS_SETTLED_MOVING_SAMPLES 3.0
 // Under motion, a pixel with a neighbour whose normal makes a cosine below this with its own (26
 // degrees: a crease, a silhouette, detail finer than a pixel) takes its sample (see isTurned).
 #define TS_TURNED_NORMAL_COS 0.9
@@ -717,13 +717,14 @@ void main()
         // casts on itself and next to itself are sharp). The history restarts from the sample,
         // which is output. (Requiring 3 such neighbours instead of one: relMSE ratio input / output
         // on mesh_engine at 64x64 0.42 instead of 0.92, camera_translation 0.83 instead of 0.92.)
-        // Under motion, a lit sample that the blended result and the temporal mean of at least
-        // TS_SETTLED_LIT_SAMPLES samples agree with (TS_SETTLED_LIT) is exact: the resampled history is
-        // short and its variance boosted, and the filter would only take from the dark side of a
-        // nearby hard edge (up to 0.2 of a lit pixel next to one). In a still view 3 lit samples are
-        // weak evidence (one pixel in 8 of binary noise of mean 0.5), and a longer history needs no rule.
-        bool isSettledLit = isMoving && sample0 != 0.0 && result > TS_SETTLED_LIT && temporalMean > TS_SETTLED_LIT &&
-                            samples >= TS_SETTLED_LIT_SAMPLES;
+        // Under motion, a sample that the blended result and the temporal mean of at least
+        // TS_SETTLED_MOVING_SAMPLES samples agree with (TS_SETTLED_MOVING) is exact: the resampled
+        // history is short and its variance boosted, and the filter would only take from the other
+        // side of a nearby hard edge (up to 0.2 of a lit pixel next to one, light in an umbra next to a
+        // lit surface). In a still view 3 equal samples are weak evidence (one pixel in 8 of binary
+        // noise of mean 0.5), and a longer history needs no rule.
+        bool isSettledMoving = isMoving && samples >= TS_SETTLED_MOVING_SAMPLES &&
+                               abs(result - sample0) < TS_SETTLED_MOVING && abs(temporalMean - sample0) < TS_SETTLED_MOVING;
         bool isTurned = false;
         for (int i = 0; i < 9 && isMoving && !isTurned; i++)
         {
@@ -737,7 +738,7 @@ void main()
             temporalMean = sample0;
             samples = 1.0;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledLit)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
