@@ -16,6 +16,8 @@
 // - diffuse: both histories' 5x5 means are kept near this frame's input mean (mean clamp); with a
 //   confidence input, the nearer the lower the confidence (specular: only where the confidence cut
 //   a long history);
+// - diffuse: a sample far from the fast history (RELAX_SAMPLE_TEST_SIGMA), with a neighbour on the
+//   same surface that departs from its own fast history the same way, shortens both histories;
 // - history that is not finite restarts;
 // - anti-lag (optional): a 5x5 box mean of this frame's input luminance far from the same box of the
 //   previous fast history (beyond gAntilagSigma standard deviations of the difference) shortens both
@@ -43,9 +45,17 @@
 #define RELAX_FAST_CLAMP_SIGMA 2.0
 #endif
 
-// Diffuse: local means of a history and of the input further apart than this many standard
-// deviations of their difference are brought to this distance (mean clamp).
+// Diffuse: local means of a history and of the input further apart than RELAX_MEAN_CLAMP_TRIGGER_SIGMA
+// standard deviations of their difference are brought to RELAX_MEAN_CLAMP_SIGMA of them (mean clamp).
+// A trigger at the target itself fires on a third of the pixels of a still view (noise of this
+// frame's 5x5 mean) and each shift writes that noise into the history as a 5x5 blotch the a-trous
+// filter cannot remove (thin_geometry at 128x128 without the a-trous filter: relMSE 0.0053 with the
+// clamp at 1 sigma, 0.0035 without it).
 #define RELAX_MEAN_CLAMP_SIGMA 1.0
+#define RELAX_MEAN_CLAMP_TRIGGER_SIGMA 1.5
+
+// Diffuse sample test (below): a sample this many standard deviations from the fast history.
+#define RELAX_SAMPLE_TEST_SIGMA 2.0
 
 bool IsTraced(ivec2 p)
 {
@@ -251,8 +261,9 @@ void main()
     // Local means (5x5 taps on the same surface, this frame's input against the same taps of the
     // previous histories around the reprojected point, so that spatial structure cancels):
     // - diffuse mean clamp: a history whose local mean is further from the input's than the noise of
-    //   the two means allows (RELAX_MEAN_CLAMP_SIGMA standard deviations, from the temporal variance
-    //   of one sample, plus 2%) is shifted by the excess, keeping its own detail, so that a lighting
+    //   the two means allows (RELAX_MEAN_CLAMP_TRIGGER_SIGMA standard deviations, from the temporal
+    //   variance of one sample, plus 1%) is shifted by the excess over RELAX_MEAN_CLAMP_SIGMA of them,
+    //   keeping its own detail, so that a lighting
     //   change is followed within frames; the test is on means, with a variance that does not depend
     //   on this frame's samples, so still history is moved up as often as down (no darkening). With a
     //   confidence input the allowed distance is multiplied by the confidence (0: the means are made
@@ -330,9 +341,10 @@ void main()
             {
                 float thresholdFast = RELAX_MEAN_CLAMP_SIGMA * clampScale * sigmaFast;
                 float thresholdSlow = RELAX_MEAN_CLAMP_SIGMA * clampScale * sigmaSlow;
-                if (dFast > thresholdFast)
+                const float kTrigger = RELAX_MEAN_CLAMP_TRIGGER_SIGMA / RELAX_MEAN_CLAMP_SIGMA;
+                if (dFast > kTrigger * thresholdFast)
                     prevFast.rgb = max(prevFast.rgb + (meanIn - meanFast) * (clampAmount * (1.0 - thresholdFast / dFast)), vec3(0.0));
-                if (dSlow > thresholdSlow)
+                if (dSlow > kTrigger * thresholdSlow)
                     prevSlow.rgb = max(prevSlow.rgb + (meanIn - meanSlow) * (clampAmount * (1.0 - thresholdSlow / dSlow)), vec3(0.0));
                 // The second moment moves with the mean (same variance).
                 float slowLumaNew = _NRD_Luminance(prevSlow.rgb);
@@ -349,6 +361,54 @@ void main()
         }
     }
 
+#if !RELAX_SPECULAR
+    // Diffuse sample test: lighting that changes under a still surface without motion vectors (a
+    // shadow edge that moves, stripes of light narrower than the mean clamp's 5x5 taps) shows as a
+    // sample further from the fast history than RELAX_SAMPLE_TEST_SIGMA standard deviations (the
+    // temporal variance of one sample and the fast history's noise, plus 2%). Where a neighbour on the
+    // same surface departs from its own fast history the same way (a single sample's noise seldom
+    // has such a neighbour), both histories are shortened to the fast length times the test's
+    // threshold over the distance (at least 1 frame), so that they follow the change.
+    if (hasHistory && hasSample && prevLength > 1.0)
+    {
+        float lIn = _NRD_Luminance(signal.rgb), lFast = _NRD_Luminance(prevFast.rgb), lSlow = _NRD_Luminance(prevSlow.rgb);
+        float noise = 1.0 + 1.0 / (2.0 * min(prevLength, maxFast) + 1.0);
+        float threshold = RELAX_SAMPLE_TEST_SIGMA * sqrt(max(prevFast.w * prevFast.w - lSlow * lSlow, 0.0) * noise) +
+                          0.02 * max(lFast, lIn) + 1e-6;
+        float d = lIn - lFast;
+        if (abs(d) > threshold)
+        {
+            ivec2 prevCenter = ivec2(floor(uvPrev * vec2(gResourceSize)));
+            bool confirmed = false;
+            for (int k = 0; k < 9 && !confirmed; k++)
+            {
+                ivec2 o = ivec2(k % 3 - 1, k / 3 - 1);
+                ivec2 q = pixel + o, qPrev = prevCenter + o;
+                if (k == 4 || !Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q))
+                    continue;
+                RelaxSurface nq = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
+                if (nq.z == 0.0 || Relax_PlaneWeight(s, nq.X, 0.05) <= 0.0 || dot(s.Nw, nq.Nw) < 0.8)
+                    continue;
+                vec4 raw = texelFetch(gIn_Signal, q, 0);
+                if (!Relax_IsSample(raw))
+                    continue;
+                float lq = _NRD_Luminance(Relax_SanitizeSignal(raw).rgb);
+                vec4 fq = _NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0), 0.0);
+                float lSlowQ = _NRD_Luminance(_NRD_Sanitize(texelFetch(gPrev_Slow, qPrev, 0).rgb, 0.0));
+                float lFastQ = _NRD_Luminance(fq.rgb);
+                float thresholdQ = RELAX_SAMPLE_TEST_SIGMA * sqrt(max(fq.w * fq.w - lSlowQ * lSlowQ, 0.0) * noise) +
+                                   0.02 * max(lFastQ, lq) + 1e-6;
+                confirmed = (lq - lFastQ) * sign(d) > thresholdQ;
+            }
+            if (confirmed)
+            {
+                float shortened = max(maxFast * threshold / abs(d), 1.0);
+                prevLength = min(prevLength, shortened);
+                maxFast = min(maxFast, shortened);
+            }
+        }
+    }
+#endif
     float n = min(prevLength, maxSlow);
     float nFast = min(prevLength, maxFast);
     vec4 slow, fast;
