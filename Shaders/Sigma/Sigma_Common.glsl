@@ -161,6 +161,7 @@ struct SigmaDenseKernel
     vec2 rayStep; // change of the ray per pixel in x and y
     vec3 t;       // T / |T|^2 (T, B: _Sigma_KernelBasis)
     vec3 b;       // B / |B|^2
+    bool isGrazing; // foreshortened more than 3x (|N.V| < 0.32): elsewhere the pixel distance is larger
 };
 
 SigmaDenseKernel _Sigma_DenseKernel(vec3 Xv, float viewZ, vec3 Nv, float worldRadius)
@@ -173,6 +174,7 @@ SigmaDenseKernel _Sigma_DenseKernel(vec3 Xv, float viewZ, vec3 Nv, float worldRa
     k.rayStep = vec2(gFrustum.x * 2.0 * gInvResourceSize.x, gFrustum.z * 2.0 * gInvResourceSize.y);
     k.t = T / max(dot(T, T), 1e-30);
     k.b = B / max(dot(B, B), 1e-30);
+    k.isGrazing = abs(dot(Nv, normalize(Xv))) < 0.32;
     return k;
 }
 
@@ -180,6 +182,8 @@ SigmaDenseKernel _Sigma_DenseKernel(vec3 Xv, float viewZ, vec3 Nv, float worldRa
 // distance / radius^2) or 0.1 of the squared tangent-plane distance, whichever is larger.
 float _Sigma_DenseDistance2(float pixelDistance2, SigmaDenseKernel k, int i, int j, float z)
 {
+    if (!k.isGrazing)
+        return pixelDistance2;
     vec3 d = z * (k.ray + vec3(k.rayStep.x * float(i), k.rayStep.y * float(j), 0.0)) - k.center;
     float u = dot(d, k.t);
     float v = dot(d, k.b);
