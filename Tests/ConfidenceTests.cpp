@@ -290,27 +290,24 @@ struct CpuConfidence
                 float fx = (x + 0.5f) / 3.0f - 0.5f, fy = (y + 0.5f) / 3.0f - 0.5f;
                 int ox = int(std::floor(fx)), oy = int(std::floor(fy));
                 float tx = fx - ox, ty = fy - oy;
-                float g[4] = {};
-                for (int j = 0; j < 2; j++)
-                    for (int i = 0; i < 2; i++)
-                    {
-                        int qx = std::min(std::max(ox + i, 0), gw - 1), qy = std::min(std::max(oy + j, 0), gh - 1);
-                        float wt = (i ? tx : 1.0f - tx) * (j ? ty : 1.0f - ty);
-                        for (int c = 0; c < 4; c++)
-                            g[c] += wt * f[(size_t(qy) * gw + qx) * 4 + c];
-                    }
-                if (s.localGradientRadius > 0)
-                {
-                    // The box means of the unfiltered strata, interpolated as the filtered gradients.
-                    float local[4] = {};
+                // Bilinear fetch of a 1/3-resolution RGBA image at this pixel, clamped at the edges.
+                auto upsample = [&](const std::vector<float>& src, float out[4]) {
                     for (int j = 0; j < 2; j++)
                         for (int i = 0; i < 2; i++)
                         {
                             int qx = std::min(std::max(ox + i, 0), gw - 1), qy = std::min(std::max(oy + j, 0), gh - 1);
                             float wt = (i ? tx : 1.0f - tx) * (j ? ty : 1.0f - ty);
                             for (int c = 0; c < 4; c++)
-                                local[c] += wt * box[(size_t(qy) * gw + qx) * 4 + c];
+                                out[c] += wt * src[(size_t(qy) * gw + qx) * 4 + c];
                         }
+                };
+                float g[4] = {};
+                upsample(f, g);
+                if (s.localGradientRadius > 0)
+                {
+                    // The box means of the unfiltered strata, interpolated as the filtered gradients.
+                    float local[4] = {};
+                    upsample(box, local);
                     for (int c = 0; c < 4; c += 2)
                         if (local[c] * std::max(g[c + 1], 1e-6f) < g[c] * std::max(local[c + 1], 1e-6f))
                         {
