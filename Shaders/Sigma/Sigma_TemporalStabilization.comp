@@ -8,7 +8,8 @@
 // on the same surface (a moving shadow cannot leave a ghost), shortens the history where clamping
 // had to move it (anti-lag) and blends with a per-pixel history length of at most
 // gMaxStabilizedFrameNum frames. Hard shadows (sub-pixel penumbra) keep history only where it needs
-// no resampling, and restart it where a shadow arrives or leaves; in a tile where hard shadows
+// no resampling (where it does, only a lit sample whose previous samples were mostly dark takes some
+// of it), and restart it where a shadow arrives or leaves; in a tile where hard shadows
 // moved without motion vectors (many samples contradict settled histories, both ways) their pixels
 // output this frame's sample. History = this frame's result, stored with its viewZ, history length,
 // whether this frame's sample was lit, whether a hard shadow's departure restarted it and whether
@@ -39,6 +40,11 @@
 #define SIGMA_SCALE 1.0
 #define ANTILAG_SCALE 15.0
 #define HARD_SHADOW_ARRIVAL 0.75
+// A lit hard-shadow sample under resampled history (camera or surface motion) whose previous
+// samples were lit on less than HARD_SHADOW_RESAMPLED_LIT of the bilinear footprint takes up to
+// HARD_SHADOW_RESAMPLED_BLEND of the history (see main).
+#define HARD_SHADOW_RESAMPLED_LIT 0.25
+#define HARD_SHADOW_RESAMPLED_BLEND 0.7
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
@@ -190,12 +196,16 @@ void main()
     float historyWeight = 0.0;
     int contradiction = 0;
     bool wasLit = false;
+    bool isResampledHard = false;
+    float tapLit = 0.0;
+    float kernelRadius = 0.0;
     if (viewZ != 0.0)
     {
         // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
         // then exact away from edges, and history only helps (anti-aliasing) on a still view.
         float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
-        isHardShadow = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0)) < 1.0;
+        kernelRadius = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0));
+        isHardShadow = kernelRadius < 1.0;
 
         vec2 uv = _NRD_PixelUv(pixel);
         vec3 Xv = _NRD_ViewPosition(uv, viewZ);
@@ -253,9 +263,9 @@ void main()
         // A hard shadow keeps history only where it needs no resampling (still camera and surface): the
         // input is as sharp as the truth there, and resampled history (even Catmull-Rom) would soften
         // it. (Fading history out up to 3-pixel penumbrae instead helped rotating cameras and hurt
-        // translating ones by as much.)
+        // translating ones by as much.) Where it needs resampling, see isResampledHard below.
         vec2 subpixel = min(f, 1.0 - f);
-        isValidUv = isValidUv && !(isHardShadow && max(subpixel.x, subpixel.y) >= 0.01);
+        isResampledHard = isHardShadow && max(subpixel.x, subpixel.y) >= 0.01;
         for (int k = 0; k < 4 && isValidUv; k++)
         {
             ivec2 q = origin + ivec2(k & 1, k >> 1);
@@ -266,6 +276,7 @@ void main()
             if (!(abs(prevViewZ - expectedViewZ) <= tolerance))
                 continue;
             float w = bilinear[k];
+            tapLit += (packed & HISTORY_SAMPLE_BIT) != 0u ? w : 0.0;
             history += LoadHistory(q) * w;
             historyLength += float(packed & HISTORY_LENGTH_MASK) * w;
             historyWeight += w;
@@ -276,7 +287,7 @@ void main()
         // or 1), the chance that a still view's sample contradicts it (the history's distance to the
         // nearer end, at least 0.03 and half of what a history of its length allows: 1 / (length +
         // 2) by the rule of succession), and whether the sample does.
-        if (isHardShadow && historyWeight > 0.999)
+        if (isHardShadow && !isResampledHard && historyWeight > 0.999)
         {
             ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
             uint packedQ = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
@@ -360,7 +371,28 @@ void main()
     SIGMA_TYPE result = current;
     float newLength = 1.0;
     bool isDeparted = false;
-    if (historyWeight > 1e-3)
+    if (isResampledHard)
+    {
+        // A hard shadow whose history needs resampling (camera or surface motion). Resampled history
+        // softens the edges and greys the pixels beside them, where the truth is 0 or 1: the sample
+        // stays as it is, but for a lit sample where the previous frame's samples around the
+        // reprojected point were mostly dark (lit on less than HARD_SHADOW_RESAMPLED_LIT of the
+        // bilinear footprint): the pixel lies in or beside a sub-pixel penumbra, and a lit sample of
+        // a mostly dark penumbra is the costliest error there (relMSE weighs a dark truth most). It
+        // takes HARD_SHADOW_RESAMPLED_BLEND of the history (clamped to the 3x3 range), weighted by
+        // the penumbra's width: none below a kernel radius of 0.1 pixel (there a lit sample under
+        // dark history is more often a geometric detail that the previous frame's pixels missed
+        // than a penumbra), all from 0.5 pixel. A dark sample stays dark: the cost of a grey
+        // history on a pixel whose truth is 0 is 100 times that of the same error on a lit one.
+        // (The previous samples rather than the history's values: a history that this rule
+        // darkened would darken the lit pixels after it.)
+        if (historyWeight > 0.999 && _Sigma_MaxComponent(current) >= 0.5 && tapLit < HARD_SHADOW_RESAMPLED_LIT)
+        {
+            float blend = HARD_SHADOW_RESAMPLED_BLEND * clamp((kernelRadius - 0.1) * 2.5, 0.0, 1.0);
+            result = mix(current, clamp(history / historyWeight, minimum, maximum), blend);
+        }
+    }
+    else if (historyWeight > 1e-3)
     {
         history /= historyWeight;
         historyLength /= historyWeight;
