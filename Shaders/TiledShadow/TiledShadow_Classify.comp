@@ -107,6 +107,9 @@
 // light around it into the umbra (a light switched on again, a restarted history).
 #define TS_SHARP_SAMPLES 8.0
 #define TS_DARK_RESULT 0.1
+// Least pixels of the 3x3 around a shadowed sample, on its surface in the previous frame, that the test
+// of isExactShadow compares (a thin shadow cast by an object next to it has neighbours on that object).
+#define TS_EXACT_PAIRS 5.0
 // Under motion, a sample whose blended result and temporal mean are both within TS_SETTLED_MOVING of
 // it, over at least TS_SETTLED_MOVING_SAMPLES samples, is output as it is (see isSettledMoving).
 #define TS_SETTLED_MOVING 0.02
@@ -620,6 +623,7 @@ void main()
         // Temporal determinism (TS_DETERMINISTIC): this frame's bits against the previous frame's at
         // the same offsets from the nearest history texel, where both are this surface.
         float flips = 0.0, pairs = 0.0, lit = 0.0;
+        float nearFlips = 0.0, nearPairs = 0.0, nearLit = 0.0;
         bool isCentreUnchanged = false;
         for (int t = 0; t < 16 && footprintBits != 0u; t++)
         {
@@ -633,6 +637,12 @@ void main()
             lit += float(current + previous);
             if (d == ivec2(0))
                 isCentreUnchanged = current == previous;
+            if (abs(d.x) <= 1 && abs(d.y) <= 1) // The 3x3 around the pixel (isExactShadow).
+            {
+                nearFlips += float(current ^ previous);
+                nearPairs += 1.0;
+                nearLit += float(current);
+            }
         }
         // Settled texels (TS_SETTLED) whose value this frame's bit at the same offset contradicts: this
         // frame's 5x5 bits moved into the footprint's layout (the nearest texel at the centre).
@@ -652,6 +662,19 @@ void main()
         bool isDeterministic = !isDisoccluded && ((isMoving && abs(history.x - sample0) > 0.5) || (!isMoving && clampAmount > 0.0)) &&
                                isCentreUnchanged &&
                                expectedFlips >= TS_DETERMINISTIC_EVIDENCE && flips <= TS_DETERMINISTIC * expectedFlips;
+        // A thin shadow (1 to TS_THIN_SHADOW_NEIGHBORS shadowed neighbours, one lit) whose 3x3 bits are
+        // this frame what they were the last, with at most one change in the whole 4x4 footprint (at
+        // least TS_EXACT_PAIRS of the 3x3 on this surface), is exact in a still view: penumbra noise
+        // repeats such a pattern rarely, a sharp or thin shadow always. While the history is short
+        // (TS_SHARP_SAMPLES: a light switched on, a restart) it is output as sampled whatever its shape
+        // (a thin shadow that bends has no line through the centre, and its 9x9 window looks like
+        // noise, so isSharpShadow misses it). The history goes on unchanged: resetting its temporal
+        // mean to the sample cost the still scenes up to 8% while they warm up. Without the shadowed
+        // neighbour and the 4x4 test, bright penumbrae (a 0 in 8 lit pixels twice) passed often
+        // enough at 256x256 to take issue 4's instability of the disocclusion scene above its bar.
+        bool isExactShadow = !isDisoccluded && !isMoving && sample0 == 0.0 && nearPairs >= TS_EXACT_PAIRS && nearFlips == 0.0 &&
+                             flips <= 1.0 && nearLit >= 1.0 && shadowedNeighbors >= 1 && shadowedNeighbors <= TS_THIN_SHADOW_NEIGHBORS &&
+                             samples < TS_SHARP_SAMPLES;
         // A shadow that moved without motion vectors over a still surface (a turning sun, an object
         // passing over a still floor, the stripes of a blind): the 17x17 local mean barely changes
         // (the clamp does not start), but several texels whose samples were equal on each of their
@@ -738,7 +761,7 @@ void main()
             temporalMean = sample0;
             samples = 1.0;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
