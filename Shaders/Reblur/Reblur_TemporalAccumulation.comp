@@ -257,6 +257,7 @@ void main()
             float zTolerance1 = gDisocclusionThreshold * 4.0 * viewZ + 2.0 * viewZ / max(gProjectY, NRD_EPS);
             float zTolerancePrev = gDisocclusionThreshold * 4.0 * rp.expectedViewZ + 2.0 * rp.expectedViewZ / max(gProjectY, NRD_EPS);
             float chi = 0.0, chiCount = 0.0, chiSelf = 0.0;
+            bool isSelfBelow = false;
             for (int j = -1; j <= 1; j++)
             {
                 for (int i = -1; i <= 1; i++)
@@ -286,6 +287,7 @@ void main()
                     if (i == 0 && j == 0)
                     {
                         chiSelf = z2;
+                        isSelfBelow = d < 0.0;
                         continue;
                     }
                     chi += z2;
@@ -309,6 +311,17 @@ void main()
                 float keep = pow(1.0 + pixelExcess, -REBLUR_PIXEL_ANTILAG_POWER);
                 historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
                 isPixelCut = true;
+            }
+            else if (isSelfBelow && chiSelf >= REBLUR_PIXEL_ANTILAG_SELF)
+            {
+                // The pixel alone, where it moved (REBLUR_PIXEL_ANTILAG_MOTION): a one-pixel gap whose
+                // resampled history holds a neighbouring surface's light.
+                vec2 motion = vec2(rp.surface.footprint.origin) + rp.surface.footprint.f - vec2(pixel);
+                if (dot(motion, motion) > REBLUR_PIXEL_ANTILAG_MOTION * REBLUR_PIXEL_ANTILAG_MOTION)
+                {
+                    historyLength = max(floor(historyLength * 0.5), min(historyLength, 1.0));
+                    isPixelCut = true;
+                }
             }
         }
 #endif

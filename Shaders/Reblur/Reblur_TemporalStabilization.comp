@@ -82,6 +82,10 @@ void main()
             vec2 uvPrev = (clipPrev.xy / clipPrev.w) * 0.5 + 0.5;
             float motionPixels = length((uvPrev - _NRD_PixelUv(pixel)) * vec2(gResourceSize));
             n /= 1.0 + REBLUR_STABILIZATION_MOTION_SCALE * motionPixels;
+#if !REBLUR_SPECULAR
+            if (historyLength < REBLUR_STABILIZATION_MIN_MOVING_HISTORY && motionPixels > REBLUR_PIXEL_ANTILAG_MOTION)
+                n = 0.0;
+#endif
         }
         result = mix(luma, clamped, n / (n + 1.0));
     }
