@@ -127,7 +127,6 @@ struct Shortfall
 };
 
 const std::vector<Shortfall> kShortfalls = {
-    {"fast_orbit", "diffuse", 1.14, 0.03},      // 1.087 of the oracle's relMSE.
     {"venetian_blinds", "diffuse", 1.49, 0.03}, // 1.418 of a third of the input's (1.00 of the oracle's).
 };
 
