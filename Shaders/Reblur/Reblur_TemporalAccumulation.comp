@@ -325,6 +325,19 @@ void main()
             }
         }
 #endif
+#if REBLUR_SPECULAR
+        // Where the surface moved on screen, a sample below REBLUR_SPECULAR_SELF_FRACTION of its own
+        // history halves the history (the diffuse self test under motion, as a ratio: specular has no
+        // per-pixel deviation): a history resampled along motion can hold a neighbouring surface's
+        // reflection (mesh_thin's moving legs: histories of 3-10 frames at 0.4-1.0 where the truth
+        // is 0 and the samples are 0).
+        {
+            vec2 motion = vec2(rp.surface.footprint.origin) + rp.surface.footprint.f - vec2(pixel);
+            if (dot(motion, motion) > REBLUR_PIXEL_ANTILAG_MOTION * REBLUR_PIXEL_ANTILAG_MOTION &&
+                luma < REBLUR_SPECULAR_SELF_FRACTION * slowLuma)
+                historyLength = max(floor(historyLength * 0.5), min(historyLength, 1.0));
+        }
+#endif
         float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise) - 1.0;
         if (excess > 0.0)
         {
