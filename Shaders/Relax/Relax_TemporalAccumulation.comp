@@ -86,6 +86,21 @@ vec4 _Relax_CatmullRomWithinFootprint(texture2D history, NrdFootprint footprint,
     return clamp(_NRD_CatmullRomHistory(history, footprint, size), lo, hi);
 }
 
+// The fast history clamped per channel to mean +- RELAX_FAST_CLAMP_SIGMA standard deviations of 'count'
+// samples with sums 'm1' and squares 'm2'; its second moment bounded by the same box.
+vec4 _Relax_ClampFast(vec4 fast, vec3 m1, vec3 m2, float count)
+{
+    if (count <= 0.0)
+        return fast;
+    m1 /= count;
+    vec3 sigma = sqrt(max(m2 / count - m1 * m1, vec3(0.0)));
+    vec3 lo = max(m1 - RELAX_FAST_CLAMP_SIGMA * sigma, vec3(0.0)), hi = m1 + RELAX_FAST_CLAMP_SIGMA * sigma;
+    fast.rgb = clamp(fast.rgb, lo, hi);
+    float lumaHi = _NRD_Luminance(hi), lumaSigma = _NRD_Luminance(sigma);
+    fast.w = min(fast.w, sqrt(lumaHi * lumaHi + lumaSigma * lumaSigma));
+    return fast;
+}
+
 // Bilinear history at 'uvPrev' over the taps that hold the same surface, renormalized; 'footprint'
 // is the kept part of the bilinear weights (0: disoccluded), 'historyLength' and 'debt' (the
 // confidence debt) in frames.
@@ -213,6 +228,8 @@ void main()
     // neighbourhood (traced pixels on the same surface, as the history fix's clamping box; mean +-
     // RELAX_FAST_CLAMP_SIGMA standard deviations), so that a lighting change, or absurd history left
     // by out-of-range input, is gone within a frame; its second moment is bounded by the same box. The slow history follows the fast one (history fix).
+    // Diffuse gathers the box's moments in the mean clamp's 5x5 loop below (the same taps).
+#if RELAX_SPECULAR
     if (hasHistory && hasSample)
     {
         vec3 m1 = vec3(0.0), m2 = vec3(0.0);
@@ -234,16 +251,9 @@ void main()
                 m2 += c * c;
                 count += 1.0;
             }
-        if (count > 0.0)
-        {
-            m1 /= count;
-            vec3 sigma = sqrt(max(m2 / count - m1 * m1, vec3(0.0)));
-            vec3 lo = max(m1 - RELAX_FAST_CLAMP_SIGMA * sigma, vec3(0.0)), hi = m1 + RELAX_FAST_CLAMP_SIGMA * sigma;
-            prevFast.rgb = clamp(prevFast.rgb, lo, hi);
-            float lumaHi = _NRD_Luminance(hi), lumaSigma = _NRD_Luminance(sigma);
-            prevFast.w = min(prevFast.w, sqrt(lumaHi * lumaHi + lumaSigma * lumaSigma));
-        }
+        prevFast = _Relax_ClampFast(prevFast, m1, m2, count);
     }
+#endif
     // Confidence debt: the frames of history the confidence took (up to gHistoryFixFrameNum). The
     // history fix runs on the length plus the debt: where the lighting changed on a surface that was
     // in view, this frame's sample and the clamped history are better than the history fix's wide
@@ -307,22 +317,37 @@ void main()
         ivec2 prevCenter = ivec2(floor(uvPrev * vec2(gResourceSize)));
         vec3 sumIn = vec3(0.0), sumFast = vec3(0.0), sumSlow = vec3(0.0);
         float sumVariance = 0.0, sumSq = 0.0, count = 0.0;
+#if !RELAX_SPECULAR
+        vec3 m1 = vec3(0.0), m2 = vec3(0.0);
+        float count3 = 0.0;
+#endif
         for (int dy = -2; dy <= 2; dy++)
             for (int dx = -2; dx <= 2; dx++)
             {
                 ivec2 q = pixel + ivec2(dx, dy), qPrev = prevCenter + ivec2(dx, dy);
-                if (!Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q))
+                if (!Relax_IsInImage(q) || !IsTraced(q))
                     continue;
                 // Same surface now (as the fast history's clamping box) and before (viewZ).
                 RelaxSurface n = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
-                float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
-                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.Nw, n.Nw) < 0.8 || !(zPrev > 0.0) ||
-                    abs(zPrev - zExpected) > 0.05 * zExpected)
+                if (n.z == 0.0 || Relax_PlaneWeight(s, n.X, 0.05) <= 0.0 || dot(s.Nw, n.Nw) < 0.8)
                     continue;
                 vec4 raw = texelFetch(gIn_Signal, q, 0);
                 if (!Relax_IsSample(raw))
                     continue;
                 vec3 c = Relax_SanitizeSignal(raw).rgb;
+#if !RELAX_SPECULAR
+                if (abs(dx) <= 1 && abs(dy) <= 1)
+                {
+                    m1 += c;
+                    m2 += c * c;
+                    count3 += 1.0;
+                }
+#endif
+                if (!Relax_IsInImage(qPrev))
+                    continue;
+                float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
+                if (!(zPrev > 0.0) || abs(zPrev - zExpected) > 0.05 * zExpected)
+                    continue;
                 vec4 f = _NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0), 0.0);
                 vec3 sl = _NRD_Sanitize(texelFetch(gPrev_Slow, qPrev, 0).rgb, 0.0);
                 float l = _NRD_Luminance(c), ls = _NRD_Luminance(sl);
@@ -333,6 +358,9 @@ void main()
                 sumVariance += max(f.w * f.w - ls * ls, 0.0);
                 count += 1.0;
             }
+#if !RELAX_SPECULAR
+        prevFast = _Relax_ClampFast(prevFast, m1, m2, count3);
+#endif
         if (count > 0.0)
         {
             vec3 meanIn = sumIn / count, meanFast = sumFast / count, meanSlow = sumSlow / count;
