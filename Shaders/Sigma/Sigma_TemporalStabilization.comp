@@ -266,6 +266,9 @@ void main()
         // translating ones by as much.) Where it needs resampling, see isResampledHard below.
         vec2 subpixel = min(f, 1.0 - f);
         isResampledHard = isHardShadow && max(subpixel.x, subpixel.y) >= 0.01;
+        // (Such a pixel reads its history only where it may take some: a lit sample, a penumbra
+        // estimate above 0.1 pixel.)
+        isValidUv = isValidUv && !(isResampledHard && (_Sigma_MaxComponent(current) < 0.5 || kernelRadius <= 0.1));
         for (int k = 0; k < 4 && isValidUv; k++)
         {
             ivec2 q = origin + ivec2(k & 1, k >> 1);
