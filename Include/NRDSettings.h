@@ -387,8 +387,8 @@ struct RelaxSettings
     HitDistanceParameters hitDistanceParameters = {};
 
     // Slow history length in frames, [0, RELAX_MAX_HISTORY_FRAME_NUM]; 0 turns accumulation off.
-    // Diffuse under motion: at most this over (1 + 20 * motion in pixels per frame), no fewer than
-    // the fast history's frames (each resampling of a moving history blurs it).
+    // Under motion: at most this over (1 + 20 * motion in pixels per frame), no fewer than the fast
+    // history's frames (each resampling of a moving history blurs it).
     uint32_t diffuseMaxAccumulatedFrameNum = 30;
     uint32_t specularMaxAccumulatedFrameNum = 30;
 

@@ -11,7 +11,7 @@
 //   frame blurs them); specular also follows the virtual motion of the reflection;
 // - slow history: radiance, hit distance and the second luminance moment with alpha
 //   1 / (n + 1), n = min(history length, gMaxAccumulatedFrameNum); fast history: radiance with
-//   n = min(history length, gMaxFastAccumulatedFrameNum); diffuse under motion: the slow n at most
+//   n = min(history length, gMaxFastAccumulatedFrameNum); under motion: the slow n at most
 //   gMaxAccumulatedFrameNum / (1 + RELAX_MOTION_SHORTENING * motion in pixels), no fewer than the fast n;
 // - the fast history is clamped to this frame's 3x3 input neighbourhood before it is blended;
 // - diffuse: both histories' 5x5 means are kept near this frame's input mean (mean clamp); with a
@@ -61,11 +61,12 @@
 #define RELAX_SAMPLE_TEST_SIGMA 2.0
 #define RELAX_SAMPLE_TEST_FLOOR 0.1
 
-// Diffuse under motion: the slow history is kept to gMaxAccumulatedFrameNum / (1 + this * motion in
-// pixels) frames, no fewer than the fast history's. Each frame of motion resamples the history, and
-// what it holds beyond the fast history's frames is mostly the blur of earlier resamplings (H100,
-// 128x128, 30 frames under motion against this: fast_orbit relMSE 0.0113 -> 0.0094, mesh_engine 0.0639
-// -> 0.0563, camera_rotation 0.0075 -> 0.0063; a still camera is not affected).
+// Under motion the slow history is kept to gMaxAccumulatedFrameNum / (1 + this * motion in pixels)
+// frames, no fewer than the fast history's. Each frame of motion resamples the history, and what it
+// holds beyond the fast history's frames is mostly the blur of earlier resamplings (H100, 128x128, 30
+// frames under motion against this: diffuse fast_orbit relMSE 0.0113 -> 0.0094, mesh_engine 0.0639 ->
+// 0.0563; specular fast_orbit 0.0805 -> 0.0605, camera_rotation 0.0381 -> 0.0277; 256x256 specular
+// mesh_thin 0.0804 -> 0.0650; a still camera is not affected).
 #define RELAX_MOTION_SHORTENING 20.0
 
 bool IsTraced(ivec2 p)
@@ -269,15 +270,17 @@ void main()
     debt = 0.0;
 #endif
 
-#if RELAX_SPECULAR
-    // What the blend of surface and virtual history still misses grows with their parallax.
-    float glossiness = (1.0 - s.roughness) * (1.0 - s.roughness);
-    float maxSlow = gMaxAccumulatedFrameNum / (1.0 + parallax * glossiness);
-    float maxFast = min(gMaxFastAccumulatedFrameNum, maxSlow);
-#else
+    // Under motion the slow history is kept to RELAX_MOTION_SHORTENING's share, no fewer frames than
+    // the fast history's.
     float motion = length((uvPrev - uv) * vec2(gResourceSize));
     float maxSlow = max(gMaxAccumulatedFrameNum / (1.0 + RELAX_MOTION_SHORTENING * motion),
                         min(gMaxFastAccumulatedFrameNum, gMaxAccumulatedFrameNum));
+#if RELAX_SPECULAR
+    // What the blend of surface and virtual history still misses grows with their parallax.
+    float glossiness = (1.0 - s.roughness) * (1.0 - s.roughness);
+    maxSlow = min(maxSlow, gMaxAccumulatedFrameNum / (1.0 + parallax * glossiness));
+    float maxFast = min(gMaxFastAccumulatedFrameNum, maxSlow);
+#else
     float maxFast = gMaxFastAccumulatedFrameNum;
 #endif
 
