@@ -217,7 +217,8 @@ float _NRD_UnpackHistoryLength(float packed) { return floor(_NRD_Sanitize(packed
 //==================================================================================================
 
 // The history length that a confidence c in [0, 1] leaves (REBLUR diffuse, RELAX): c times the
-// length, but no shorter than NRD_CONFIDENCE_MIN_HISTORY frames (nor longer than it was). The consumers' own clamps and
+// length, but no shorter than 'minFrames' (nor longer than it was); NRD_CONFIDENCE_MIN_HISTORY frames
+// unless a consumer measured otherwise (RELAX diffuse: RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY). The consumers' own clamps and
 // anti-lag move the few frames kept to this frame's lighting; a restart to 0 frames costs more
 // noise than the light left in them costs bias where a light toggles every few frames (scene lab,
 // 64x64, CONFIDENCE at sensitivity 1, relMSE against the run without confidence, restart -> kept 4:
@@ -225,9 +226,9 @@ float _NRD_UnpackHistoryLength(float packed) { return floor(_NRD_Sanitize(packed
 // RELAX_SPECULAR 1.07x -> 0.88x; Shaders/Confidence/README.md).
 #define NRD_CONFIDENCE_MIN_HISTORY 4.0
 
-float _NRD_ConfidenceHistoryLength(float historyLength, float confidence)
+float _NRD_ConfidenceHistoryLength(float historyLength, float confidence, float minFrames)
 {
-    return max(historyLength * confidence, min(historyLength, NRD_CONFIDENCE_MIN_HISTORY));
+    return max(historyLength * confidence, min(historyLength, minFrames));
 }
 
 #endif

@@ -108,7 +108,7 @@ void main()
         // against the run without confidence, 4 kept -> restarted: toggling_light 0.90x -> 0.83x).
         float kept = historyLength * confidence;
 #else
-        float kept = _NRD_ConfidenceHistoryLength(historyLength, confidence);
+        float kept = _NRD_ConfidenceHistoryLength(historyLength, confidence, NRD_CONFIDENCE_MIN_HISTORY);
 #endif
         debt = min(debt + historyLength - kept, gHistoryFixFrameNum);
         historyLength = kept;

@@ -271,9 +271,9 @@ void main()
 #if RELAX_CONFIDENCE
     float confidence = clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
 #if RELAX_SPECULAR
-    float kept = _NRD_ConfidenceHistoryLength(prevLength, confidence);
+    float kept = _NRD_ConfidenceHistoryLength(prevLength, confidence, NRD_CONFIDENCE_MIN_HISTORY);
 #else
-    float kept = max(prevLength * confidence, min(prevLength, RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY));
+    float kept = _NRD_ConfidenceHistoryLength(prevLength, confidence, RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY);
 #endif
     debt = min(debt + prevLength - kept, gHistoryFixFrameNum);
     prevLength = kept;
