@@ -17,6 +17,20 @@
 #include "CommonFrame.glsl"
 #include "Reblur_Common.glsl"
 
+// Whether the surface moved on screen by more than REBLUR_PIXEL_ANTILAG_MOTION pixels since the
+// previous frame (the self tests under motion).
+bool IsMovedOnScreen(NrdFootprint footprint, ivec2 pixel)
+{
+    vec2 motion = vec2(footprint.origin) + footprint.f - vec2(pixel);
+    return dot(motion, motion) > REBLUR_PIXEL_ANTILAG_MOTION * REBLUR_PIXEL_ANTILAG_MOTION;
+}
+
+// The history length a history test leaves: 'keep' of it in whole frames, at least one frame.
+float CutHistory(float historyLength, float keep)
+{
+    return max(floor(historyLength * keep), min(historyLength, 1.0));
+}
+
 void main()
 {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -309,17 +323,16 @@ void main()
                 // Cut hard (stripes that move a pixel every few frames need a history of a few
                 // frames); the slow value is kept: this frame's sample gets the weight of the shorter history.
                 float keep = pow(1.0 + pixelExcess, -REBLUR_PIXEL_ANTILAG_POWER);
-                historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
+                historyLength = CutHistory(historyLength, keep);
                 isPixelCut = true;
             }
             else if (isSelfBelow && chiSelf >= REBLUR_PIXEL_ANTILAG_SELF)
             {
                 // The pixel alone, where it moved (REBLUR_PIXEL_ANTILAG_MOTION): a one-pixel gap whose
                 // resampled history holds a neighbouring surface's light.
-                vec2 motion = vec2(rp.surface.footprint.origin) + rp.surface.footprint.f - vec2(pixel);
-                if (dot(motion, motion) > REBLUR_PIXEL_ANTILAG_MOTION * REBLUR_PIXEL_ANTILAG_MOTION)
+                if (IsMovedOnScreen(rp.surface.footprint, pixel))
                 {
-                    historyLength = max(floor(historyLength * 0.5), min(historyLength, 1.0));
+                    historyLength = CutHistory(historyLength, 0.5);
                     isPixelCut = true;
                 }
             }
@@ -331,18 +344,14 @@ void main()
         // per-pixel deviation): a history resampled along motion can hold a neighbouring surface's
         // reflection (mesh_thin's moving legs: histories of 3-10 frames at 0.4-1.0 where the truth
         // is 0 and the samples are 0).
-        {
-            vec2 motion = vec2(rp.surface.footprint.origin) + rp.surface.footprint.f - vec2(pixel);
-            if (dot(motion, motion) > REBLUR_PIXEL_ANTILAG_MOTION * REBLUR_PIXEL_ANTILAG_MOTION &&
-                luma < REBLUR_SPECULAR_SELF_FRACTION * slowLuma)
-                historyLength = max(floor(historyLength * 0.5), min(historyLength, 1.0));
-        }
+        if (IsMovedOnScreen(rp.surface.footprint, pixel) && luma < REBLUR_SPECULAR_SELF_FRACTION * slowLuma)
+            historyLength = CutHistory(historyLength, 0.5);
 #endif
         float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise) - 1.0;
         if (excess > 0.0)
         {
             float keep = 1.0 / (1.0 + excess);
-            historyLength = max(floor(historyLength * keep), min(historyLength, 1.0));
+            historyLength = CutHistory(historyLength, keep);
             historyLength = min(historyLength, max(gMaxFastAccumulatedFrameNum, 1.0));
 #if REBLUR_SPECULAR
             slow = _Reblur_WithLuma(slow, mix(fastNow, slowLuma, keep));
