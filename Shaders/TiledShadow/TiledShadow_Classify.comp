@@ -104,6 +104,9 @@
 // In a still view, a shadowed pixel with at most this many shadowed neighbours, two of them opposite
 // each other through it, is a thin shadow (see isSharpShadow).
 #define TS_THIN_SHADOW_NEIGHBORS 3
+// In a still view, a 5x5 window with at least this many isolated pixels in its inner 3x3 (see
+// IsolatedPixels) is penumbra noise, whatever its 9x9 window looks like (see isSharpShadow).
+#define TS_NOISE_ISOLATED 2u
 // A dark pixel (blended result below TS_DARK_RESULT) in sharp structure is output as sampled while its
 // history is shorter than TS_SHARP_SAMPLES: the variance boost of a short history would spread the
 // light around it into the umbra (a light switched on again, a restarted history).
@@ -216,6 +219,31 @@ bool IsNoisyPattern(uint near)
 {
     int count = 8 - bitCount(near & NEAR_3X3);
     return (count == 3 || count == 4) && !HasLine(~near);
+}
+
+// Pixels of the inner 3x3 of the 5x5 bits 'near' (layout of NearWindow) that differ from at least 3
+// of their 4 neighbours ('inImage': neighbours outside the image do not count). Binary noise of mean
+// 0.5 gives about 3 such pixels (a pixel differs from each neighbour with probability 0.5); a sharp
+// edge, a corner or a thin line none (the end of a line one).
+uint IsolatedPixels(uint near, uint inImage)
+{
+    uint isolated = 0u;
+    for (int y = 1; y <= 3; y++)
+    {
+        for (int x = 1; x <= 3; x++)
+        {
+            uint bit = uint(5 * y + x);
+            uint centre = (near >> bit) & 1u;
+            uint differing = 0u;
+            for (int k = 0; k < 4; k++)
+            {
+                uint neighbor = k == 0 ? bit - 1u : (k == 1 ? bit + 1u : (k == 2 ? bit - 5u : bit + 5u));
+                differing += ((inImage >> neighbor) & 1u) & (((near >> neighbor) & 1u) ^ centre);
+            }
+            isolated += differing >= 3u ? 1u : 0u;
+        }
+    }
+    return isolated;
 }
 
 // Binary noise of mean m changes value between two adjacent pixels with probability 2 m (1 - m); a
@@ -745,7 +773,12 @@ void main()
         {
             if (structure < 0.0)
                 structure = ChangesRelativeToNoise(local, groupOrigin, isInterior);
-            isSharpShadow = structure < TS_STRUCTURE || (!isMoving && shadowedNeighbors <= TS_THIN_SHADOW_NEIGHBORS && HasLine(~near));
+            // In a still view the 9x9 test alone takes a wide penumbra next to a large umbra or lit
+            // area for sharp (the uniform part of the window has no changes): the 5x5 window must
+            // not look like noise either, unless the pixel's own samples say it stayed dark.
+            bool isDarkBefore = (history.z >= TS_SETTLED_SAMPLES && history.y < TS_SETTLED) || (samples >= 2.0 && temporalMean <= TS_SETTLED);
+            isSharpShadow = (structure < TS_STRUCTURE && (isMoving || isDarkBefore || IsolatedPixels(near, nearInImage) < TS_NOISE_ISOLATED)) ||
+                            (!isMoving && shadowedNeighbors <= TS_THIN_SHADOW_NEIGHBORS && HasLine(~near));
         }
         // Under motion, next to a neighbour that faces another way (a crease, a silhouette, the small
         // parts of a machine), the resampled history mixes surfaces at nearly the same depth (the
