@@ -12,9 +12,10 @@
 // of it), and restart it where a shadow arrives or leaves; in a tile where hard shadows
 // moved without motion vectors (many samples contradict settled histories, both ways) their pixels
 // output this frame's sample. History = this frame's result, stored with its viewZ, history length,
-// whether this frame's sample was lit, whether a hard shadow's departure restarted it and whether
-// its tile was moving (viewZ bits with the 5 low bits replaced by the length, bit 5 by the sample,
-// bit 6 by the restart, bit 7 by the moving tile).
+// whether this frame's sample was lit, whether a hard shadow's departure restarted it, whether
+// its tile was moving and whether the sample was lit in the frame before too (viewZ bits with the 5
+// low bits replaced by the length, bit 5 by the sample, bit 6 by the restart, bit 7 by the moving
+// tile, bit 8 by the two lit samples).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -33,13 +34,18 @@
 #define HISTORY_DEPARTED_BIT 64u
 // Bit 7 of the packed viewZ: a hard shadow of a moving tile (see MovingTile).
 #define HISTORY_MOVING_BIT 128u
-#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT | HISTORY_MOVING_BIT))
+// Bit 8 of the packed viewZ: the pixel's sample was lit, and so was the one of the frame before.
+#define HISTORY_LIT_TWICE_BIT 256u
+#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT | HISTORY_MOVING_BIT | HISTORY_LIT_TWICE_BIT))
 // Clamping box: mean +- SIGMA_SCALE * sigma. History length lost per unit of clamping displacement:
 // higher values follow moving shadows (moving lights and occluders) sooner at some cost in noise
 // on still ones (measured on the scene lab's static / moving_light / moving_occluder scenes).
 #define SIGMA_SCALE 1.0
 #define ANTILAG_SCALE 15.0
 #define HARD_SHADOW_ARRIVAL 0.75
+// A hard-shadow pixel lit for the third frame in a row under history below 1 - HARD_SHADOW_LIT_RUN
+// restarts it in a tile whose contradictions exceed a still view's (see main).
+#define HARD_SHADOW_LIT_RUN 0.5
 // A lit hard-shadow sample under resampled history (camera or surface motion) whose previous
 // samples were lit on less than HARD_SHADOW_RESAMPLED_LIT of the bilinear footprint takes up to
 // HARD_SHADOW_RESAMPLED_BLEND of the history (see main).
@@ -102,10 +108,11 @@ SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
     return _Sigma_Signal01(sum / weightSum);
 }
 
-uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving)
+uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving, bool isLitTwice)
 {
     return (floatBitsToUint(viewZ) & HISTORY_VIEWZ_MASK) | min(uint(historyLength + 0.5), HISTORY_LENGTH_MASK) |
-           (isLit ? HISTORY_SAMPLE_BIT : 0u) | (isDeparted ? HISTORY_DEPARTED_BIT : 0u) | (isMoving ? HISTORY_MOVING_BIT : 0u);
+           (isLit ? HISTORY_SAMPLE_BIT : 0u) | (isDeparted ? HISTORY_DEPARTED_BIT : 0u) | (isMoving ? HISTORY_MOVING_BIT : 0u) |
+           (isLit && isLitTwice ? HISTORY_LIT_TWICE_BIT : 0u);
 }
 
 // A hard shadow's pixel at 'q' of the previous frame (no resampling) with sample 'currentValue' now
@@ -123,12 +130,12 @@ const uint kNoHistory = 0x7F7FFF80u; // ~3.4e38, length 0, flags clear
 
 // 'isPassed': the output is this frame's sample (the history keeps 'result').
 void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current, bool isDeparted,
-                 bool isPassed, bool isMoving)
+                 bool isPassed, bool isMoving, bool wasLit)
 {
     imageStore(gOut_ShadowTranslucency, pixel, vec4(isPassed ? current : result));
     imageStore(gHistory_Shadow, pixel, vec4(result));
     bool isLit = _Sigma_MaxComponent(current) >= 0.5;
-    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted, isMoving)));
+    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted, isMoving, wasLit)));
 }
 
 void main()
@@ -147,7 +154,7 @@ void main()
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
-            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value, false, false, false);
+            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value, false, false, false, false);
         }
         return;
     }
@@ -196,6 +203,7 @@ void main()
     float historyWeight = 0.0;
     int contradiction = 0;
     bool wasLit = false;
+    bool wasLitTwice = false;
     bool isResampledHard = false;
     float tapLit = 0.0;
     float kernelRadius = 0.0;
@@ -288,8 +296,9 @@ void main()
         // Moving-tile test, 1: the hard-shadow pixels whose history needs no resampling; on an edge
         // (both samples in the 3x3 range) under settled history (within 1 - HARD_SHADOW_ARRIVAL of 0
         // or 1), the chance that a still view's sample contradicts it (the history's distance to the
-        // nearer end, at least 0.03 and half of what a history of its length allows: 1 / (length +
-        // 2) by the rule of succession), and whether the sample does.
+        // nearer end, at least 0.03 and a quarter of what a young history of its length allows: 1 /
+        // (length + 2) by the rule of succession; 0.015 for a history of the full length, whose
+        // samples agreed for longer than the length tells), and whether the sample does.
         if (isHardShadow && !isResampledHard && historyWeight > 0.999)
         {
             ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
@@ -298,13 +307,15 @@ void main()
             if ((packedQ & HISTORY_MOVING_BIT) != 0u)
                 atomicAdd(s_WasMovingNum, 1u);
             wasLit = (packedQ & HISTORY_SAMPLE_BIT) != 0u;
+            wasLitTwice = (packedQ & HISTORY_LIT_TWICE_BIT) != 0u;
             if (_Sigma_MaxComponent(maximum - minimum) >= 0.5)
             {
                 SIGMA_TYPE h = history / historyWeight;
                 float settled = _Sigma_MaxComponent(min(h, 1.0 - h));
                 if (settled < 1.0 - HARD_SHADOW_ARRIVAL)
                 {
-                    float chance = max(settled, max(0.03, 0.5 / (historyLength / historyWeight + 2.0)));
+                    float length = historyLength / historyWeight;
+                    float chance = max(settled, length > gMaxStabilizedFrameNum - 0.5 ? 0.015 : max(0.03, 0.25 / (length + 2.0)));
                     atomicAdd(s_ExpectedContradictions, uint(chance * 1024.0 + 0.5));
                 }
                 if (_Sigma_MaxComponent(current - h) > HARD_SHADOW_ARRIVAL)
@@ -341,15 +352,18 @@ void main()
     // often as a still view would, by at least 3, and both ways (departures and arrivals: a light
     // switched on or off turns all of them one way, and the arrival and departure rules restart
     // those); or, in a tile whose pixels were mostly in a moving tile the frame before, as often as a
-    // still view would, by at least 1.
+    // still view would, by at least 1. A tile whose hard shadows contradict their histories more
+    // often than a still view would, by at least 1, is "stirred" (see the lit run below).
     float expected = float(s_ExpectedContradictions) / 1024.0;
     float contradictionNum = float(s_DepartureNum + s_ArrivalNum);
+    bool isStirredTile = contradictionNum >= expected + 1.0;
     bool isMovingTile = (min(s_DepartureNum, s_ArrivalNum) >= 2u && contradictionNum >= 2.0 * expected + 3.0) ||
                         (contradictionNum >= expected + 1.0 && 2u * s_WasMovingNum > s_PixelNum);
     // A hard shadow of a moving tile outputs its sample: a history of a shadow that moves a pixel or
     // more a frame is worth little and leaves grey trails along every edge. A lit sample only where
-    // at least 2 of its 8 neighbours are lit too or it was lit the frame before (a single lit sample
-    // in a dark penumbra is noise, and the costliest error there).
+    // one of its 8 neighbours is lit too or it was lit the frame before (a single lit sample in a
+    // dark penumbra is noise, and the costliest error there; the end of a one-pixel lit stripe has
+    // one lit neighbour).
     bool isPassed = false;
     if (isHardShadow && isMovingTile)
     {
@@ -359,7 +373,7 @@ void main()
             for (int i = -1; i <= 1; i++)
                 litNum += (i != 0 || j != 0) && _Sigma_MaxComponent(s_Signal[c.y + j][c.x + i]) >= 0.5 ? 1 : 0;
         }
-        isPassed = _Sigma_MaxComponent(current) < 0.5 || litNum >= 2 || wasLit;
+        isPassed = _Sigma_MaxComponent(current) < 0.5 || litNum >= 1 || wasLit;
     }
 
     if (!isInside)
@@ -459,6 +473,13 @@ void main()
                 if (isRow || isDeparted)
                     antilag = 0.0;
             }
+            // A pixel lit for the third frame in a row under history below 1 - HARD_SHADOW_LIT_RUN in a
+            // stirred tile: a shadow that left it (a thin shadow moving by its width in a frame leaves
+            // pixels whose history the rules above did not restart, and that the blend brightens by
+            // a sixth a frame); a still penumbra's noise rarely gives three lit samples in a row
+            // where the history is that dark, and its tiles are rarely stirred.
+            if (isStirredTile && wasLit && wasLitTwice && _Sigma_MaxComponent(current - history) > HARD_SHADOW_LIT_RUN)
+                antilag = 0.0;
         }
         historyLength = min(historyLength * antilag, gMaxStabilizedFrameNum);
 
@@ -466,5 +487,5 @@ void main()
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
     }
 
-    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed, isHardShadow && isMovingTile);
+    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed, isHardShadow && isMovingTile, wasLit);
 }
