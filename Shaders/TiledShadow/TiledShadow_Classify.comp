@@ -780,6 +780,14 @@ void main()
             isSharpShadow = (structure < TS_STRUCTURE && (isMoving || isDarkBefore || IsolatedPixels(near, nearInImage) < TS_NOISE_ISOLATED)) ||
                             (!isMoving && shadowedNeighbors <= TS_THIN_SHADOW_NEIGHBORS && HasLine(~near));
         }
+        // The lit counterpart of a thin shadow, in a still view: a line of light one pixel wide (2 to
+        // TS_THIN_SHADOW_NEIGHBORS lit neighbours, two of them opposite each other through the pixel;
+        // the gaps between the slats of a blind) whose sample was lit in the previous frame too, on a
+        // short history (light that just arrived), in a 5x5 window that does not look like noise. The
+        // boosted filter would darken it from the shadows on both sides.
+        bool isLitLine = !isMoving && !isDisoccluded && sample0 != 0.0 && samples < TS_SPATIAL_BOOST_SAMPLES && isCentreUnchanged &&
+                         litNeighbors >= 2 && litNeighbors <= TS_THIN_SHADOW_NEIGHBORS && HasLine(near) &&
+                         IsolatedPixels(near, nearInImage) < TS_NOISE_ISOLATED;
         // Under motion, next to a neighbour that faces another way (a crease, a silhouette, the small
         // parts of a machine), the resampled history mixes surfaces at nearly the same depth (the
         // depth test passes them), and the filter has little of the pixel's own surface to take
@@ -808,7 +816,7 @@ void main()
             temporalMean = sample0;
             samples = 1.0;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
