@@ -225,6 +225,36 @@ TEST_CASE("A perfect restart of every history when the lamp toggles reads toggli
     CHECK(withConfidence.mean.relmseDenoised < restarted.mean.relmseDenoised);
 }
 
+TEST_CASE("A perfect restart of every history when the lamp switches: the diffuse consumers' low-pass lag on light_switch",
+          "[quality][confidence]")
+{
+    // The lab's low-pass lag (RunReport::lagLowpassFrames: frames until the 8x8 block means' error is
+    // back within twice its level before the change) counts a new history's noise as lag. Every
+    // history restarted on the frames the lamp switches (16, 24; no confidence) is the most an
+    // invalidation can do: RELAX_DIFFUSE reads the same count as with confidence (8 at 64x64), so the
+    // count's floor is no lag of the confidence; REBLUR_DIFFUSE's restart halves it (8 -> 4 at 32
+    // frames, 10 -> 4 at 40) at a relMSE above the run without confidence (1.17x, 1.16x), where the
+    // confidence gives 7 at a relMSE below it (0.89x, 0.91x; Shaders/Confidence/README.md, Lag).
+    for (const char* method : {"REBLUR_DIFFUSE", "RELAX_DIFFUSE"})
+    {
+        Pair p = RunBoth("light_switch", method, 32);
+        nrdlab::RunOptions o = SmallRun("light_switch", method, 32);
+        o.settingsJson = R"({"common": {"restartFrames": [16, 24]}})";
+        nrdlab::RunReport restarted = Run(o);
+        INFO(method << ": relMSE without " << p.without.mean.relmseDenoised << ", with confidence " << p.with.mean.relmseDenoised
+                    << ", restarted " << restarted.mean.relmseDenoised << "; low-pass lag " << p.without.lagLowpassFrames << ", "
+                    << p.with.lagLowpassFrames << ", " << restarted.lagLowpassFrames << "; trailing light " << MeanLag(p.without)
+                    << ", " << MeanLag(p.with) << ", " << MeanLag(restarted));
+        CHECK(restarted.mean.relmseDenoised > p.without.mean.relmseDenoised);
+        CHECK(p.with.mean.relmseDenoised < p.without.mean.relmseDenoised);
+        CHECK(p.with.lagLowpassFrames <= p.without.lagLowpassFrames);
+        if (std::string(method) == "RELAX_DIFFUSE")
+            CHECK(restarted.lagLowpassFrames == p.with.lagLowpassFrames);
+        else
+            CHECK(2 * restarted.lagLowpassFrames <= p.without.lagLowpassFrames);
+    }
+}
+
 TEST_CASE("REBLUR and RELAX with CONFIDENCE: relMSE within 5% where lighting does not change", "[quality][confidence]")
 {
     // Confidence is exactly 1 on these scenes, so the output is the same with and without it.
