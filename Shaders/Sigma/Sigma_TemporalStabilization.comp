@@ -203,7 +203,6 @@ void main()
     float historyWeight = 0.0;
     int contradiction = 0;
     bool wasLit = false;
-    bool wasLitTwice = false;
     bool isResampledHard = false;
     float tapLit = 0.0;
     float kernelRadius = 0.0;
@@ -297,7 +296,7 @@ void main()
         // (both samples in the 3x3 range) under settled history (within 1 - HARD_SHADOW_ARRIVAL of 0
         // or 1), the chance that a still view's sample contradicts it (the history's distance to the
         // nearer end, at least 0.03 and a quarter of what a young history of its length allows: 1 /
-        // (length + 2) by the rule of succession; 0.015 for a history of the full length, whose
+        // (length + 2) by the rule of succession; 0.008 for a history of the full length, whose
         // samples agreed for longer than the length tells), and whether the sample does.
         if (isHardShadow && !isResampledHard && historyWeight > 0.999)
         {
@@ -307,7 +306,6 @@ void main()
             if ((packedQ & HISTORY_MOVING_BIT) != 0u)
                 atomicAdd(s_WasMovingNum, 1u);
             wasLit = (packedQ & HISTORY_SAMPLE_BIT) != 0u;
-            wasLitTwice = (packedQ & HISTORY_LIT_TWICE_BIT) != 0u;
             if (_Sigma_MaxComponent(maximum - minimum) >= 0.5)
             {
                 SIGMA_TYPE h = history / historyWeight;
@@ -315,7 +313,7 @@ void main()
                 if (settled < 1.0 - HARD_SHADOW_ARRIVAL)
                 {
                     float length = historyLength / historyWeight;
-                    float chance = max(settled, length > gMaxStabilizedFrameNum - 0.5 ? 0.015 : max(0.03, 0.25 / (length + 2.0)));
+                    float chance = max(settled, length > gMaxStabilizedFrameNum - 0.5 ? 0.008 : max(0.03, 0.25 / (length + 2.0)));
                     atomicAdd(s_ExpectedContradictions, uint(chance * 1024.0 + 0.5));
                 }
                 if (_Sigma_MaxComponent(current - h) > HARD_SHADOW_ARRIVAL)
@@ -478,7 +476,7 @@ void main()
             // pixels whose history the rules above did not restart, and that the blend brightens by
             // a sixth a frame); a still penumbra's noise rarely gives three lit samples in a row
             // where the history is that dark, and its tiles are rarely stirred.
-            if (isStirredTile && wasLit && wasLitTwice && _Sigma_MaxComponent(current - history) > HARD_SHADOW_LIT_RUN)
+            if (isStirredTile && wasLit && (packedQ & HISTORY_LIT_TWICE_BIT) != 0u && _Sigma_MaxComponent(current - history) > HARD_SHADOW_LIT_RUN)
                 antilag = 0.0;
         }
         historyLength = min(historyLength * antilag, gMaxStabilizedFrameNum);
