@@ -14,8 +14,8 @@
 //                              shared memory, the last writes OUT_*_RADIANCE_HITDIST.
 //
 // Memory (bytes per pixel): per signal, permanent slow history RGBA16F (radiance, hit distance),
-// fast history RGBA16F (fast radiance, sqrt of the second moment), history length and confidence
-// debt RG8 = 18; shared permanent viewZ R16F = 2; transient, shared by the chains (they run one after
+// fast history RGBA16F (fast radiance, sqrt of the second moment), RG8 (history length and confidence
+// debt; lighting change record and residual: Relax_Common.glsl) = 18; shared permanent viewZ R16F = 2; transient, shared by the chains (they run one after
 // the other): one RGBA16F and one RG8 = 10, plus the 1/8 x 1/8 tile map. The application's output texture carries the
 // temporal pass's fast history to the history fix and is the a-trous iterations' second ping-pong
 // buffer before the final result is written into it.
@@ -71,7 +71,7 @@ static_assert(sizeof(RelaxConstants) == sizeof(passes::Relax_Diffuse_TemporalAcc
                   sizeof(RelaxConstants) == sizeof(passes::Relax_SpatialVariance::Constants),
               "RELAX passes share one constant block");
 static_assert(sizeof(RelaxConstants) % 16 == 0, "std140 block size");
-static_assert(RELAX_MAX_HISTORY_FRAME_NUM < 255, "history lengths are stored in UNORM8 (NRD_HISTORY_LENGTH_MAX)");
+static_assert(RELAX_MAX_HISTORY_FRAME_NUM <= 63, "history lengths are stored in 6 bits of UNORM8 (RELAX_HISTORY_LENGTH_LIMIT)");
 
 template <class To> To Cast(const RelaxConstants& from)
 {
@@ -184,7 +184,8 @@ public:
                 continue;
             const ResourceRef slow = builder.AddPermanentTexture(Format::RGBA16_SFLOAT);
             const ResourceRef fast = builder.AddPermanentTexture(Format::RGBA16_SFLOAT);
-            // History length (.x) and confidence debt (.y, the frames the confidence input took).
+            // .x: history length and confidence debt (the frames the confidence input took); .y: the
+            // diffuse lighting change record and residual (Shaders/Relax/Relax_Common.glsl).
             const ResourceRef length = builder.AddPermanentTexture(Format::RG8_UNORM);
             const ResourceRef input =
                 App(isSpecular ? ResourceType::IN_SPEC_RADIANCE_HITDIST : ResourceType::IN_DIFF_RADIANCE_HITDIST);

@@ -406,11 +406,12 @@ TEST_CASE("RELAX dispatches one a-trous pass per iteration, alternating so that 
 }
 
 // CPU evaluation of the variance estimation with the spatial estimate off (Relax_SpatialVariance.comp):
-// (radiance, max(E[l^2] - E[l]^2, 0) / history length) from the permanent histories (the length read
-// back as one channel), the variance
-// rounded to fp16 as the pass stores it.
+// (radiance, max(E[l^2] - E[l]^2, 0) / history length) from the permanent histories (the RG8 length
+// texture read back: .x the length in the low 6 bits, .y the lighting change record in the top 3
+// bits, where the lighting moves from 2 on and the variance is a quarter), the variance rounded to
+// fp16 as the pass stores it.
 std::vector<float> VarianceReference(const Inputs& in, const std::vector<float>& slow, const std::vector<float>& fast,
-                                     const std::vector<float>& length, bool truncate)
+                                     const std::vector<float>& lengthRecord, bool truncate)
 {
     std::vector<float> out(slow.size(), kSentinel);
     for (size_t i = 0; i < size_t(in.width) * in.height; i++)
@@ -418,10 +419,12 @@ std::vector<float> VarianceReference(const Inputs& in, const std::vector<float>&
         if (in.IsSky(i))
             continue;
         float m1 = Luminance(&slow[i * 4]), m2 = fast[i * 4 + 3] * fast[i * 4 + 3];
-        float n = std::max(std::floor(length[i] * 255.0f + 0.5f), 1.0f);
+        const uint32_t x = uint32_t(std::floor(lengthRecord[i * 2] * 255.0f + 0.5f));
+        const uint32_t record = uint32_t(std::floor(lengthRecord[i * 2 + 1] * 255.0f + 0.5f)) >> 5u;
+        float n = std::max(float(x & 63u), 1.0f);
         for (int c = 0; c < 3; c++)
             out[i * 4 + c] = slow[i * 4 + c];
-        out[i * 4 + 3] = test::RoundToHalf(std::max(m2 - m1 * m1, 0.0f) / n, truncate);
+        out[i * 4 + 3] = test::RoundToHalf(std::max(m2 - m1 * m1, 0.0f) / n * (record >= 2u ? 0.25f : 1.0f), truncate);
     }
     return out;
 }
@@ -476,12 +479,9 @@ TEST_CASE("RELAX variance estimation and a-trous iterations equal a CPU evaluati
         auto permanent = [&](size_t k) {
             return test::ReadbackPoolTexture(*context, rig.integration, ResourceType::PERMANENT_POOL, v[k].indexInPool);
         };
-        std::vector<float> slow = permanent(3), fast = permanent(4), lengthDebt = permanent(5);
-        // RG8: history length (.x) and confidence debt (.y).
-        REQUIRE(lengthDebt.size() == 2u * w * h);
-        std::vector<float> length(size_t(w) * h);
-        for (size_t i = 0; i < length.size(); i++)
-            length[i] = lengthDebt[2 * i];
+        std::vector<float> slow = permanent(3), fast = permanent(4), length = permanent(5);
+        // RG8: history length and confidence debt (.x), lighting change record and residual (.y).
+        REQUIRE(length.size() == 2u * w * h);
         std::vector<float> b = test::ReadbackPoolTexture(*context, rig.integration, ResourceType::TRANSIENT_POOL,
                                                          resources[size_t(first)][5].indexInPool);
 
@@ -613,5 +613,71 @@ TEST_CASE("RELAX keeps hard edges in normals and in depth: no energy crosses the
                     CHECK(lit == 3 * litPixels);
                 }
             }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("RELAX diffuse keeps the history short where a line of light moves over a still surface, long elsewhere",
+          "[vulkan]")
+{
+    // A still plane at 0.45 crossed by a line of light one pixel high (1.3) that moves down one row
+    // every two frames (venetian_blinds' stripes, without motion vectors): the change test finds the
+    // rows it crosses (this frame's and the previous frame's samples above their fast histories) and
+    // the lighting change record keeps their histories at 2 + 1 frames; rows the line never reaches
+    // accumulate every frame. The permanent length texture (RG8) is read back: .x the length (low 6
+    // bits), .y the record (top 3 bits, moving from 2 on).
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    const uint32_t w = 40, h = 32, frames = 16, firstRow = 4;
+    RelaxSettings settings;
+    std::vector<std::vector<ResourceDesc>> resources;
+    std::vector<DispatchDesc> dispatches = Dispatches(Method::RELAX_DIFFUSE, w, h, settings, resources);
+    int variance = -1;
+    for (size_t i = 0; i < dispatches.size() && variance < 0; i++)
+        if (std::string(dispatches[i].name).find("variance") != std::string::npos)
+            variance = int(i);
+    REQUIRE(variance >= 0);
+    const ResourceDesc lengthDesc = resources[size_t(variance)][5];
+    REQUIRE(lengthDesc.type == ResourceType::PERMANENT_POOL);
+
+    RelaxRig rig(*context);
+    rig.Create(Method::RELAX_DIFFUSE, w, h, settings);
+    Inputs in(w, h);
+    std::vector<float> outDiff, outSpec;
+    uint32_t row = firstRow;
+    for (uint32_t frame = 0; frame < frames; frame++)
+    {
+        row = firstRow + frame / 2;
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+            {
+                size_t i = size_t(y) * w + x;
+                float v = y == row ? 1.3f : 0.45f;
+                for (int c = 0; c < 3; c++)
+                    in.diffuse[i * 4 + c] = v;
+                in.diffuse[i * 4 + 3] = 0.5f;
+            }
+        rig.Frame(test::StillCameraSettings(frame), in, outDiff, outSpec);
+    }
+    std::vector<float> length =
+        test::ReadbackPoolTexture(*context, rig.integration, ResourceType::PERMANENT_POOL, lengthDesc.indexInPool);
+    REQUIRE(length.size() == 2u * w * h);
+    auto at = [&](uint32_t x, uint32_t y, int c) { return uint32_t(std::floor(length[(size_t(y) * w + x) * 2 + c] * 255.0f + 0.5f)); };
+    size_t shortOnLine = 0, longAway = 0;
+    for (uint32_t x = 4; x < w - 4; x++)
+    {
+        // The line's row this frame (it arrived the frame before): moving, 2 + 1 frames.
+        uint32_t n = at(x, row, 0) & 63u, record = at(x, row, 1) >> 5u;
+        shortOnLine += record >= 2u && n <= 3u;
+        // Rows 8 and more below the line's last row: never lit, every frame accumulated.
+        longAway += (at(x, row + 8, 0) & 63u) == frames && (at(x, row + 8, 1) >> 5u) == 0u;
+    }
+    CHECK(shortOnLine == w - 8);
+    CHECK(longAway == w - 8);
+    // The output shows the line: its row above the rows around it.
+    for (uint32_t x = 4; x < w - 4; x++)
+    {
+        INFO("x " << x);
+        CHECK(outDiff[(size_t(row) * w + x) * 4] > outDiff[(size_t(row + 4) * w + x) * 4] + 0.2f);
+    }
     CHECK(context->ValidationMessageCount() == 0);
 }

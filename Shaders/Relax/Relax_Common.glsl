@@ -102,4 +102,39 @@ float Relax_RoughnessWeight(float rc, float ri, float fraction)
     return clamp(1.0 - abs(rc - ri) / (fraction * rc + 0.01), 0.0, 1.0);
 }
 
+// History length texture (RG8, per signal):
+// - .x: the history length in frames (0..63) and, times 64 above it, the confidence debt (the frames a
+//   confidence input took, 0..3: historyFixFrameNum's range);
+// - .y: the lighting change record and, in its 5-bit value, this frame's residual at the pixel (the
+//   diffuse temporal accumulation's change test, Relax_TemporalAccumulation.comp), packed by
+//   Shaders/Include/LightingChange.glsl. RELAX: the record rises by 2 where the test found a change
+//   and falls by 1 where it did not, and the lighting moves from 2 on (one frame where the test
+//   fires; longer where it keeps firing).
+#define _NRD_LIGHTING_CHANGE_RISE 2u
+#define _NRD_LIGHTING_CHANGE_MOVING 2u
+#include "LightingChange.glsl"
+
+#define RELAX_HISTORY_LENGTH_LIMIT 63.0
+
+// The variance estimation's scale where the lighting moves (Relax_SpatialVariance.comp).
+#define RELAX_MOVING_VARIANCE_SCALE 0.25
+
+float Relax_PackLengthAndDebt(float historyLength, float debt)
+{
+    return (clamp(floor(historyLength + 0.5), 0.0, RELAX_HISTORY_LENGTH_LIMIT) + 64.0 * clamp(floor(debt + 0.5), 0.0, 3.0)) / 255.0;
+}
+
+// (history length, confidence debt) from the .x channel.
+vec2 Relax_UnpackLengthAndDebt(float packed)
+{
+    float v = floor(clamp(_NRD_Sanitize(packed, 0.0), 0.0, 1.0) * 255.0 + 0.5);
+    float debt = floor(v / 64.0);
+    return vec2(v - 64.0 * debt, debt);
+}
+
+// The residual z (a sample's departure from its fast history in its standard deviations) in the
+// record's 5-bit value: steps of 0.5 in [-8, 7.5].
+float Relax_PackResidual(float z) { return clamp(floor(z * 2.0 + 0.5) + 16.0, 0.0, 31.0) / 31.0; }
+float Relax_UnpackResidual(float value) { return (floor(value * 31.0 + 0.5) - 16.0) * 0.5; }
+
 #endif

@@ -49,10 +49,12 @@ void main()
 
     vec4 slow = texelFetch(gIn_Slow, pixel, 0);
     vec4 fast = texelFetch(gIn_Fast, pixel, 0);
-    vec2 lengthDebt = texelFetch(gIn_Length, pixel, 0).xy;
-    float historyLength = _NRD_UnpackHistoryLength(lengthDebt.x);
+    // .x: length and confidence debt; .y: the lighting change record, passed on (Relax_Common.glsl).
+    vec2 packedLength = texelFetch(gIn_Length, pixel, 0).xy;
+    vec2 lengthDebt = Relax_UnpackLengthAndDebt(packedLength.x);
+    float historyLength = lengthDebt.x;
     // The confidence debt (Relax_TemporalAccumulation.comp) counts as history here.
-    float debt = _NRD_UnpackHistoryLength(lengthDebt.y);
+    float debt = lengthDebt.y;
     float fixLength = historyLength + debt;
 
     if (fixLength < gHistoryFixFrameNum)
@@ -77,7 +79,7 @@ void main()
 #endif
                 if (w <= 0.0)
                     continue;
-                w *= 1.0 + _NRD_UnpackHistoryLength(texelFetch(gIn_Length, q, 0).x);
+                w *= 1.0 + Relax_UnpackLengthAndDebt(texelFetch(gIn_Length, q, 0).x).x;
                 vec4 f = texelFetch(gIn_Fast, q, 0);
                 slowSum += w * texelFetch(gIn_Slow, q, 0);
                 fastSum += w * f;
@@ -184,5 +186,5 @@ void main()
     }
     imageStore(gOut_Slow, pixel, _NRD_ClampToHalf(slow));
     imageStore(gOut_Fast, pixel, _NRD_ClampToHalf(fast));
-    imageStore(gOut_Length, pixel, vec4(_NRD_PackHistoryLength(historyLength), _NRD_PackHistoryLength(debt), 0.0, 0.0));
+    imageStore(gOut_Length, pixel, vec4(Relax_PackLengthAndDebt(historyLength, debt), packedLength.y, 0.0, 0.0));
 }

@@ -27,7 +27,8 @@ void main()
     float m2 = texelFetch(gIn_Fast, pixel, 0).w;
     m2 *= m2;
     float m1 = _NRD_Luminance(radiance);
-    float historyLength = max(_NRD_UnpackHistoryLength(texelFetch(gIn_Length, pixel, 0).x), 1.0);
+    vec2 packedLength = texelFetch(gIn_Length, pixel, 0).xy;
+    float historyLength = max(Relax_UnpackLengthAndDebt(packedLength.x).x, 1.0);
     if (historyLength < gVarianceHistoryThreshold)
     {
         float sum1 = 0.0, sum2 = 0.0, weightSum = 0.0;
@@ -50,5 +51,11 @@ void main()
         m2 = sum2 / weightSum;
     }
     float variance = max(m2 - m1 * m1, 0.0) / historyLength;
+    // Where the lighting moves (diffuse change test, Relax_TemporalAccumulation.comp) the history is
+    // 2 frames: a quarter of the variance keeps the a-trous filter from blurring away the lines of
+    // light that such a history still holds (venetian_blinds; the variance is of the lighting's swing
+    // as much as of the noise there).
+    if (_NRD_LightingChange_IsMoving(_NRD_LightingChange_UnpackRecord(packedLength.y)))
+        variance *= RELAX_MOVING_VARIANCE_SCALE;
     imageStore(gOut_RadianceVariance, pixel, _NRD_ClampToHalf(vec4(radiance, variance)));
 }

@@ -19,6 +19,10 @@
 //   a long history);
 // - diffuse: a sample far from the fast history (RELAX_SAMPLE_TEST_SIGMA), with a neighbour on the
 //   same surface that departs from its own fast history the same way, shortens both histories;
+// - diffuse change test: where this frame's samples depart from their fast histories the way the
+//   previous frame's did (the 5x5 mean of the product of the two frames' residuals), the lighting
+//   change record (Shaders/Include/LightingChange.glsl) rises; while it says the lighting moves, both
+//   histories are kept to RELAX_MOVING_SLOW_FRAMES / RELAX_MOVING_FAST_FRAMES;
 // - history that is not finite restarts;
 // - anti-lag (optional): a 5x5 box mean of this frame's input luminance far from the same box of the
 //   previous fast history (beyond gAntilagSigma standard deviations of the difference) shortens both
@@ -76,6 +80,30 @@
 // 0.990x, mesh_thin 1.0004x -> 0.9995x; Shaders/Confidence/README.md).
 #define RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY 6.0
 
+// Diffuse change test (below): lighting that moves over a still surface without motion vectors, in
+// stripes narrower than any clamping box (venetian_blinds: lines of sunlight one pixel wide crossing
+// a floor, each pixel lit for a frame or two every dozen), leaves every history test but a lucky one
+// below the noise of a single frame. What does show is that the departures persist: where a line
+// of light arrives or leaves, the samples of this frame and of the last both lie above (or below)
+// their fast histories, over many pixels. The test takes each tap's residual z = (sample - fast
+// history) / sigma (sigma from the temporal variance of one sample, RELAX_RESIDUAL_NOISE, plus
+// RELAX_RESIDUAL_FLOOR of the luminance) and the same tap's residual of the previous frame (the
+// record's value), and fires where the mean of their products over the 5x5 taps on the same surface
+// (divided by at least RELAX_CHANGE_MIN_TAPS) exceeds RELAX_CHANGE_THRESHOLD and the pixel's own
+// residual is at least RELAX_CHANGE_MIN_RESIDUAL, or, where the record already says the lighting
+// moves, half the threshold (it keeps firing while the lines move on). The noise of still views
+// is uncorrelated from frame to frame (mean product 0). While the record says the lighting moves,
+// the histories keep RELAX_MOVING_SLOW_FRAMES / RELAX_MOVING_FAST_FRAMES frames (2 + 1 frames: no
+// history fix) and the variance estimation gives the a-trous filter a quarter of the variance
+// (Relax_SpatialVariance.comp), so that it keeps lines that a short history still holds.
+#define RELAX_RESIDUAL_NOISE 1.11
+#define RELAX_RESIDUAL_FLOOR 0.05
+#define RELAX_CHANGE_MIN_TAPS 12.0
+#define RELAX_CHANGE_THRESHOLD 0.25
+#define RELAX_CHANGE_MIN_RESIDUAL 0.5
+#define RELAX_MOVING_SLOW_FRAMES 2.0
+#define RELAX_MOVING_FAST_FRAMES 1.0
+
 bool IsTraced(ivec2 p)
 {
     return gCheckerboard == 0u || ((uint(p.x + p.y) + gFrameIndex + gCheckerboard) & 1u) == 0u;
@@ -111,9 +139,9 @@ vec4 _Relax_ClampFast(vec4 fast, vec3 m1, vec3 m2, float count)
 
 // Bilinear history at 'uvPrev' over the taps that hold the same surface, renormalized; 'footprint'
 // is the kept part of the bilinear weights (0: disoccluded), 'historyLength' and 'debt' (the
-// confidence debt) in frames.
+// confidence debt) in frames, 'record' the lighting change record of the tap of the largest weight.
 void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out vec4 fast, out float historyLength,
-               out float debt, out float footprint)
+               out float debt, out uint record, out float footprint)
 {
     ivec2 size = ivec2(gResourceSize);
     NrdFootprint f = _NRD_Footprint(uvPrev, vec2(size));
@@ -140,9 +168,28 @@ void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out
         slow.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Slow, crFootprint, size).rgb;
         fast.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Fast, crFootprint, size).rgb;
     }
-    vec2 lengthDebt = footprint > 0.0 ? _NRD_BilinearHistory(gPrev_Length, r).xy * NRD_HISTORY_LENGTH_MAX : vec2(0.0);
+    // Length and debt unpacked per tap, then interpolated; the record (a count) from one tap.
+    vec2 lengthDebt = vec2(0.0);
+    record = 0u;
+    float recordWeight = 0.0;
+    if (footprint > 0.0)
+    {
+        for (int k = 0; k < 4; k++)
+        {
+            if (r.weights[k] <= 0.0)
+                continue;
+            vec2 v = texelFetch(gPrev_Length, r.footprint.origin + ivec2(k & 1, k >> 1), 0).xy;
+            lengthDebt += Relax_UnpackLengthAndDebt(v.x) * r.weights[k];
+            if (r.weights[k] > recordWeight)
+            {
+                recordWeight = r.weights[k];
+                record = _NRD_LightingChange_UnpackRecord(v.y);
+            }
+        }
+        lengthDebt /= r.footprintWeight;
+    }
     historyLength = lengthDebt.x;
-    debt = _NRD_IsFinite(lengthDebt.y) ? clamp(lengthDebt.y, 0.0, gHistoryFixFrameNum) : 0.0;
+    debt = clamp(lengthDebt.y, 0.0, gHistoryFixFrameNum);
     // History that is not finite (or not a radiance) restarts.
     if (!_NRD_IsFinite(slow) || !_NRD_IsFinite(fast) || !_NRD_IsFinite(historyLength) || any(lessThan(slow, vec4(0.0))) ||
         any(lessThan(fast, vec4(0.0))))
@@ -152,8 +199,9 @@ void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out
         fast = vec4(0.0);
         historyLength = 0.0;
         debt = 0.0;
+        record = 0u;
     }
-    historyLength = clamp(historyLength, 0.0, NRD_HISTORY_LENGTH_MAX);
+    historyLength = clamp(historyLength, 0.0, RELAX_HISTORY_LENGTH_LIMIT);
 }
 
 void main()
@@ -204,7 +252,8 @@ void main()
 
     vec4 prevSlow, prevFast;
     float prevLength, debt, footprint;
-    Reproject(uvPrev, zExpected, tolerance, prevSlow, prevFast, prevLength, debt, footprint);
+    uint record;
+    Reproject(uvPrev, zExpected, tolerance, prevSlow, prevFast, prevLength, debt, record, footprint);
 #if RELAX_SPECULAR
     // Virtual motion: reflections move with the reflected point's image, the more so the glossier
     // the lobe. The virtual history is taken where it holds the same surface, blended in by the
@@ -214,7 +263,9 @@ void main()
                                                 s.roughness, gWorldToClipPrev);
     vec4 virtualSlow, virtualFast;
     float virtualLength, virtualDebt, virtualFootprint;
-    Reproject(uvPrevVirtual, zExpected, tolerance, virtualSlow, virtualFast, virtualLength, virtualDebt, virtualFootprint);
+    uint virtualRecord;
+    Reproject(uvPrevVirtual, zExpected, tolerance, virtualSlow, virtualFast, virtualLength, virtualDebt, virtualRecord,
+              virtualFootprint);
     float virtualAmount = virtualFootprint > 0.5 ? _NRD_SpecularDominantFactor(s.roughness) : 0.0;
     if (footprint <= 1e-4)
         virtualAmount = virtualFootprint > 1e-4 ? 1.0 : 0.0;
@@ -230,6 +281,7 @@ void main()
     {
         prevLength = 0.0;
         debt = 0.0;
+        record = 0u;
     }
 
     // The fast history follows "now": it is clamped per channel to this frame's 3x3 input
@@ -326,6 +378,8 @@ void main()
     float clampAmount = 1.0, clampScale = 1.0;
 #endif
     bool meanClamp = clampAmount > 0.0;
+    // Diffuse change test: the sum of the taps' residual products, the taps, this pixel's residual.
+    float residualProducts = 0.0, residualTaps = 0.0, residual = 0.0;
     if (hasHistory && hasSample && (meanClamp || gAntilagSigma > 0.0))
     {
         ivec2 prevCenter = ivec2(floor(uvPrev * vec2(gResourceSize)));
@@ -371,7 +425,19 @@ void main()
                 sumSq += l * l;
                 sumVariance += max(f.w * f.w - ls * ls, 0.0);
                 count += 1.0;
+#if !RELAX_SPECULAR
+                {
+                    float lf = _NRD_Luminance(f.rgb);
+                    float sigma = sqrt(max(f.w * f.w - ls * ls, 0.0) * RELAX_RESIDUAL_NOISE) + RELAX_RESIDUAL_FLOOR * max(lf, l) + 1e-6;
+                    float z = clamp((l - lf) / sigma, -7.75, 7.75);
+                    float zPrev = Relax_UnpackResidual(_NRD_LightingChange_UnpackValue(texelFetch(gPrev_Length, qPrev, 0).y));
+                    residualProducts += z * zPrev;
+                    if (dx == 0 && dy == 0)
+                        residual = z;
+                }
+#endif
             }
+        residualTaps = count;
 #if !RELAX_SPECULAR
         prevFast = _Relax_ClampFast(prevFast, m1, m2, count3);
 #endif
@@ -471,6 +537,20 @@ void main()
             }
         }
     }
+
+    // Diffuse change test (RELAX_CHANGE_THRESHOLD above): the record rises where this frame's and the
+    // previous frame's residuals agree over the neighbourhood; while the lighting moves, the histories
+    // stay short.
+    bool isMoving = _NRD_LightingChange_IsMoving(record);
+    float correlation = residualProducts / max(residualTaps, RELAX_CHANGE_MIN_TAPS);
+    bool isChanged = residualTaps > 0.0 && ((correlation > RELAX_CHANGE_THRESHOLD && abs(residual) >= RELAX_CHANGE_MIN_RESIDUAL) ||
+                                            (isMoving && correlation > 0.5 * RELAX_CHANGE_THRESHOLD));
+    record = _NRD_LightingChange_Update(record, isChanged);
+    if (_NRD_LightingChange_IsMoving(record))
+    {
+        maxSlow = min(maxSlow, RELAX_MOVING_SLOW_FRAMES);
+        maxFast = min(maxFast, RELAX_MOVING_FAST_FRAMES);
+    }
 #endif
     float n = min(prevLength, maxSlow);
     float nFast = min(prevLength, maxFast);
@@ -498,5 +578,10 @@ void main()
     // pixel is inside the image (Relax_LoadSurface returned a surface).
     imageStore(gOut_Slow, pixel, _NRD_ClampToHalf(slow));
     imageStore(gOut_Fast, pixel, _NRD_ClampToHalf(fast));
-    imageStore(gOut_Length, pixel, vec4(_NRD_PackHistoryLength(historyLength), _NRD_PackHistoryLength(debt), 0.0, 0.0));
+    // Specular: no change test (record 0, residual 0).
+#if RELAX_SPECULAR
+    record = 0u;
+#endif
+    imageStore(gOut_Length, pixel, vec4(Relax_PackLengthAndDebt(historyLength, debt),
+                                        _NRD_LightingChange_Pack(record, Relax_PackResidual(hasSample ? residual : 0.0)), 0.0, 0.0));
 }

@@ -21,7 +21,7 @@ NRD_INPUT(4, gIn_Tiles)
 NRD_INPUT(5, gPrev_ViewZ)                        // R16F, 0 = sky (or beyond FP16).
 NRD_INPUT(6, gPrev_Slow)                         // .rgb radiance, .w hit distance.
 NRD_INPUT(7, gPrev_Fast)                         // .rgb fast radiance, .w sqrt(second luminance moment).
-NRD_INPUT(8, gPrev_Length)                       // History length (_NRD_PackHistoryLength).
+NRD_INPUT(8, gPrev_Length)                       // Length and debt, change record (Relax_Common.glsl).
 NRD_OUTPUT(9, gOut_Slow)                         // Transient.
 NRD_OUTPUT(10, gOut_Fast)                        // The application's output texture (scratch).
 NRD_OUTPUT(11, gOut_Length)                      // Transient.
