@@ -733,13 +733,15 @@ void main()
         if (!isDisoccluded && !isMoving && !isSwitched && abs(history.x - sample0) > 0.5 &&
             (sample0 == 0.0 ? contradictions >= TS_MOVED_CONTRADICTIONS : isLitEvidence))
         {
-            // The history restarts from the sample, which is filtered as a first sample would be
-            // (the variance boost of one sample; a shadowed sample in sharp structure is output as
-            // it is, below).
+            // The history restarts from the sample, filtered with the spatial variance of its 3x3
+            // bits, not boosted as a first sample's would be (a shadowed sample in sharp structure is
+            // output as it is, below): several settled texels contradicted at once are evidence of a
+            // moved shadow, not of noise, and the boosted filter washed out the thin shadows and
+            // lines of light that moved (mesh_thin, venetian_blinds).
             result = sample0;
             temporalMean = sample0;
             samples = 1.0;
-            variance = nearMean * (1.0 - nearMean) * 15.0 * TS_BOOST_SCALE;
+            variance = nearMean * (1.0 - nearMean);
         }
         if (isDeterministic)
         {
