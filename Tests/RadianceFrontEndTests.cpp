@@ -84,7 +84,6 @@ void Unpack(const Case& c, float out[4])
 // Runs the test shader over 'cases' and returns kResultFloats floats per case.
 std::vector<float> RunOnDevice(lab::VulkanContext& context, const std::vector<Case>& cases)
 {
-    rhi::Device& device = context.GetDevice();
     const uint32_t n = uint32_t(cases.size());
     std::vector<float> input(size_t(n) * kCaseFloats, 0.0f);
     for (uint32_t i = 0; i < n; i++)
@@ -97,66 +96,8 @@ std::vector<float> RunOnDevice(lab::VulkanContext& context, const std::vector<Ca
         std::memcpy(p, values, sizeof(values));
     }
 
-    rhi::Buffer* casesBuffer = nullptr;
-    rhi::Buffer* resultsBuffer = nullptr;
-    rhi::BufferDesc desc = {input.size() * sizeof(float), rhi::BUFFER_USAGE_STORAGE, rhi::MemoryLocation::HOST_UPLOAD, "cases"};
-    REQUIRE(device.CreateBuffer(desc, casesBuffer) == rhi::Result::SUCCESS);
-    desc = {size_t(n) * kResultFloats * sizeof(float), rhi::BUFFER_USAGE_STORAGE, rhi::MemoryLocation::HOST_READBACK,
-            "results"};
-    REQUIRE(device.CreateBuffer(desc, resultsBuffer) == rhi::Result::SUCCESS);
-    std::memcpy(device.MapBuffer(*casesBuffer), input.data(), input.size() * sizeof(float));
-
-    rhi::DescriptorBindingDesc bindings[] = {{0, rhi::DescriptorType::BUFFER, 1, nullptr},
-                                             {1, rhi::DescriptorType::STORAGE_BUFFER, 1, nullptr}};
-    rhi::DescriptorSetDesc sets[] = {{bindings, 2}};
-    rhi::ComputePipelineDesc pipelineDesc = {};
-    pipelineDesc.spirv = g_RadianceFrontEndTest;
-    pipelineDesc.spirvSize = sizeof(g_RadianceFrontEndTest);
-    pipelineDesc.sets = sets;
-    pipelineDesc.setsNum = 1;
-    pipelineDesc.pushConstantsSize = 4;
-    pipelineDesc.name = "RadianceFrontEndTest";
-    rhi::Pipeline* pipeline = nullptr;
-    REQUIRE(device.CreateComputePipeline(pipelineDesc, pipeline) == rhi::Result::SUCCESS);
-
-    rhi::DescriptorPoolDesc poolDesc = {};
-    poolDesc.setsMaxNum = 1;
-    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::BUFFER] = 1;
-    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_BUFFER] = 1;
-    rhi::DescriptorPool* pool = nullptr;
-    REQUIRE(device.CreateDescriptorPool(poolDesc, pool) == rhi::Result::SUCCESS);
-    rhi::DescriptorSet* set = nullptr;
-    REQUIRE(device.AllocateDescriptorSet(*pool, *pipeline, 0, set) == rhi::Result::SUCCESS);
-    rhi::DescriptorWrite writes[2] = {};
-    writes[0].type = rhi::DescriptorType::BUFFER;
-    writes[0].buffer = casesBuffer;
-    writes[1].binding = 1;
-    writes[1].type = rhi::DescriptorType::STORAGE_BUFFER;
-    writes[1].buffer = resultsBuffer;
-    device.UpdateDescriptorSet(*set, writes, 2);
-
-    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
-    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
-    rhi::CommandBuffer& cmd = rhi::GetCommandBuffer(commandBuffer);
-    // RAW: the shader reads what the host wrote.
-    rhi::BufferBarrier toShader = {casesBuffer, rhi::ACCESS_HOST_WRITE, rhi::ACCESS_SHADER_READ};
-    device.CmdBarrier(cmd, {nullptr, 0, &toShader, 1, nullptr, 0});
-    device.CmdBindPipeline(cmd, *pipeline);
-    device.CmdBindDescriptorSet(cmd, *pipeline, 0, *set);
-    device.CmdPushConstants(cmd, *pipeline, &n, sizeof(n));
-    device.CmdDispatch(cmd, (n + 63) / 64, 1, 1);
-    // RAW: the host reads what the shader wrote.
-    rhi::BufferBarrier toHost = {resultsBuffer, rhi::ACCESS_SHADER_READ_WRITE, rhi::ACCESS_HOST_READ};
-    device.CmdBarrier(cmd, {nullptr, 0, &toHost, 1, nullptr, 0});
-    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
-
-    std::vector<float> results(size_t(n) * kResultFloats);
-    std::memcpy(results.data(), device.MapBuffer(*resultsBuffer), results.size() * sizeof(float));
-    device.DestroyDescriptorPool(pool);
-    device.DestroyPipeline(pipeline);
-    device.DestroyBuffer(casesBuffer);
-    device.DestroyBuffer(resultsBuffer);
-    return results;
+    return test::RunBufferShader(context, g_RadianceFrontEndTest, sizeof(g_RadianceFrontEndTest), "RadianceFrontEndTest",
+                                 input, size_t(n) * kResultFloats, n);
 }
 
 bool Close(double actual, double expected)

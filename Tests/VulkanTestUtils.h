@@ -169,5 +169,79 @@ inline std::vector<float> ReadbackPoolTexture(lab::VulkanContext& context, Integ
     return pixels;
 }
 
+// Runs a compute shader of 64 threads per group with two storage buffers, binding 0 the cases
+// ('input', read only) and binding 1 the results ('resultFloats' floats, returned), and the case
+// count 'caseNum' as its only push constant (one thread per case). For tests of the shared shader
+// includes: the shader evaluates them and the test compares with a CPU evaluation.
+inline std::vector<float> RunBufferShader(lab::VulkanContext& context, const uint32_t* spirv, size_t spirvSize,
+                                          const char* name, const std::vector<float>& input, size_t resultFloats,
+                                          uint32_t caseNum)
+{
+    rhi::Device& device = context.GetDevice();
+    rhi::Buffer* casesBuffer = nullptr;
+    rhi::Buffer* resultsBuffer = nullptr;
+    rhi::BufferDesc desc = {std::max<size_t>(input.size(), 1) * sizeof(float), rhi::BUFFER_USAGE_STORAGE,
+                            rhi::MemoryLocation::HOST_UPLOAD, "cases"};
+    REQUIRE(device.CreateBuffer(desc, casesBuffer) == rhi::Result::SUCCESS);
+    desc = {std::max<size_t>(resultFloats, 1) * sizeof(float), rhi::BUFFER_USAGE_STORAGE, rhi::MemoryLocation::HOST_READBACK,
+            "results"};
+    REQUIRE(device.CreateBuffer(desc, resultsBuffer) == rhi::Result::SUCCESS);
+    if (!input.empty())
+        std::memcpy(device.MapBuffer(*casesBuffer), input.data(), input.size() * sizeof(float));
+
+    rhi::DescriptorBindingDesc bindings[] = {{0, rhi::DescriptorType::BUFFER, 1, nullptr},
+                                             {1, rhi::DescriptorType::STORAGE_BUFFER, 1, nullptr}};
+    rhi::DescriptorSetDesc sets[] = {{bindings, 2}};
+    rhi::ComputePipelineDesc pipelineDesc = {};
+    pipelineDesc.spirv = spirv;
+    pipelineDesc.spirvSize = spirvSize;
+    pipelineDesc.sets = sets;
+    pipelineDesc.setsNum = 1;
+    pipelineDesc.pushConstantsSize = 4;
+    pipelineDesc.name = name;
+    rhi::Pipeline* pipeline = nullptr;
+    REQUIRE(device.CreateComputePipeline(pipelineDesc, pipeline) == rhi::Result::SUCCESS);
+
+    rhi::DescriptorPoolDesc poolDesc = {};
+    poolDesc.setsMaxNum = 1;
+    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::BUFFER] = 1;
+    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_BUFFER] = 1;
+    rhi::DescriptorPool* pool = nullptr;
+    REQUIRE(device.CreateDescriptorPool(poolDesc, pool) == rhi::Result::SUCCESS);
+    rhi::DescriptorSet* set = nullptr;
+    REQUIRE(device.AllocateDescriptorSet(*pool, *pipeline, 0, set) == rhi::Result::SUCCESS);
+    rhi::DescriptorWrite writes[2] = {};
+    writes[0].type = rhi::DescriptorType::BUFFER;
+    writes[0].buffer = casesBuffer;
+    writes[1].binding = 1;
+    writes[1].type = rhi::DescriptorType::STORAGE_BUFFER;
+    writes[1].buffer = resultsBuffer;
+    device.UpdateDescriptorSet(*set, writes, 2);
+
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
+    rhi::CommandBuffer& cmd = rhi::GetCommandBuffer(commandBuffer);
+    // RAW: the shader reads what the host wrote.
+    rhi::BufferBarrier toShader = {casesBuffer, rhi::ACCESS_HOST_WRITE, rhi::ACCESS_SHADER_READ};
+    device.CmdBarrier(cmd, {nullptr, 0, &toShader, 1, nullptr, 0});
+    device.CmdBindPipeline(cmd, *pipeline);
+    device.CmdBindDescriptorSet(cmd, *pipeline, 0, *set);
+    device.CmdPushConstants(cmd, *pipeline, &caseNum, sizeof(caseNum));
+    device.CmdDispatch(cmd, (caseNum + 63) / 64, 1, 1);
+    // RAW: the host reads what the shader wrote.
+    rhi::BufferBarrier toHost = {resultsBuffer, rhi::ACCESS_SHADER_READ_WRITE, rhi::ACCESS_HOST_READ};
+    device.CmdBarrier(cmd, {nullptr, 0, &toHost, 1, nullptr, 0});
+    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
+
+    std::vector<float> results(resultFloats);
+    if (resultFloats > 0)
+        std::memcpy(results.data(), device.MapBuffer(*resultsBuffer), resultFloats * sizeof(float));
+    device.DestroyDescriptorPool(pool);
+    device.DestroyPipeline(pipeline);
+    device.DestroyBuffer(casesBuffer);
+    device.DestroyBuffer(resultsBuffer);
+    return results;
+}
+
 } // namespace test
 } // namespace nrd

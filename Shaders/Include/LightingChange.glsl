@@ -44,11 +44,12 @@ bool _NRD_LightingChange_IsMoving(uint record)
     return record >= _NRD_LIGHTING_CHANGE_MOVING;
 }
 
-// UNORM8 channel holding the record (top bits) and 'value' in [0, 1] (the other bits, rounded).
+// UNORM8 channel holding the record (top bits) and 'value' in [0, 1] (the other bits, rounded;
+// clamped to [0, 1], non-finite: 0).
 float _NRD_LightingChange_Pack(uint record, float value)
 {
     const uint valueLevels = (1u << (8u - _NRD_LIGHTING_CHANGE_BITS)) - 1u;
-    uint v = uint(clamp(value, 0.0, 1.0) * float(valueLevels) + 0.5);
+    uint v = uint(clamp(_NRD_Sanitize(value, 0.0), 0.0, 1.0) * float(valueLevels) + 0.5);
     uint r = min(record, _NRD_LIGHTING_CHANGE_MAX);
     return float((r << (8u - _NRD_LIGHTING_CHANGE_BITS)) | v) / 255.0;
 }
