@@ -428,66 +428,12 @@ bool Compile(const std::string& path, const std::string& source, bool isHlsl, st
     return true;
 }
 
-// Runs one shader (set 0: binding 0 inputs, binding 1 outputs) as one workgroup.
+// Runs one shader (set 0: binding 0 inputs, binding 1 outputs) as one workgroup, through the
+// shared buffer-shader runner (one case: a single group).
 std::vector<float> Run(lab::VulkanContext& context, const std::vector<uint32_t>& spirv,
                        const std::vector<float>& inputs, uint32_t outputsNum)
 {
-    rhi::Device& device = context.GetDevice();
-    rhi::Buffer* in = nullptr;
-    rhi::Buffer* out = nullptr;
-    rhi::BufferDesc inDesc = {inputs.size() * sizeof(float), rhi::BUFFER_USAGE_STORAGE,
-                              rhi::MemoryLocation::HOST_UPLOAD, "inputs"};
-    rhi::BufferDesc outDesc = {outputsNum * sizeof(float), rhi::BUFFER_USAGE_STORAGE,
-                               rhi::MemoryLocation::HOST_READBACK, "outputs"};
-    REQUIRE(device.CreateBuffer(inDesc, in) == rhi::Result::SUCCESS);
-    REQUIRE(device.CreateBuffer(outDesc, out) == rhi::Result::SUCCESS);
-    std::memcpy(device.MapBuffer(*in), inputs.data(), inputs.size() * sizeof(float));
-
-    rhi::DescriptorBindingDesc bindings[] = {{0, rhi::DescriptorType::BUFFER, 1, nullptr},
-                                             {1, rhi::DescriptorType::STORAGE_BUFFER, 1, nullptr}};
-    rhi::DescriptorSetDesc set = {bindings, 2};
-    rhi::ComputePipelineDesc pipelineDesc = {};
-    pipelineDesc.spirv = spirv.data();
-    pipelineDesc.spirvSize = spirv.size() * sizeof(uint32_t);
-    pipelineDesc.sets = &set;
-    pipelineDesc.setsNum = 1;
-    pipelineDesc.name = "shader helpers";
-    rhi::Pipeline* pipeline = nullptr;
-    REQUIRE(device.CreateComputePipeline(pipelineDesc, pipeline) == rhi::Result::SUCCESS);
-    rhi::DescriptorPoolDesc poolDesc = {};
-    poolDesc.setsMaxNum = 1;
-    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::BUFFER] = 1;
-    poolDesc.descriptorsMaxNum[(size_t)rhi::DescriptorType::STORAGE_BUFFER] = 1;
-    rhi::DescriptorPool* pool = nullptr;
-    rhi::DescriptorSet* descriptors = nullptr;
-    REQUIRE(device.CreateDescriptorPool(poolDesc, pool) == rhi::Result::SUCCESS);
-    REQUIRE(device.AllocateDescriptorSet(*pool, *pipeline, 0, descriptors) == rhi::Result::SUCCESS);
-    rhi::DescriptorWrite writes[2] = {};
-    writes[0].type = rhi::DescriptorType::BUFFER;
-    writes[0].buffer = in;
-    writes[1].binding = 1;
-    writes[1].type = rhi::DescriptorType::STORAGE_BUFFER;
-    writes[1].buffer = out;
-    device.UpdateDescriptorSet(*descriptors, writes, 2);
-
-    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
-    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
-    rhi::CommandBuffer& cmd = rhi::GetCommandBuffer(commandBuffer);
-    device.CmdBindPipeline(cmd, *pipeline);
-    device.CmdBindDescriptorSet(cmd, *pipeline, 0, *descriptors);
-    device.CmdDispatch(cmd, 1, 1, 1);
-    // RAW: the host reads what the shader wrote.
-    rhi::BufferBarrier toHost = {out, rhi::ACCESS_SHADER_READ_WRITE, rhi::ACCESS_HOST_READ};
-    device.CmdBarrier(cmd, {nullptr, 0, &toHost, 1, nullptr, 0});
-    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
-
-    std::vector<float> result(outputsNum);
-    std::memcpy(result.data(), device.MapBuffer(*out), outputsNum * sizeof(float));
-    device.DestroyDescriptorPool(pool);
-    device.DestroyPipeline(pipeline);
-    device.DestroyBuffer(in);
-    device.DestroyBuffer(out);
-    return result;
+    return nrd::test::RunBufferShader(context, spirv.data(), spirv.size() * sizeof(uint32_t), "shader helpers", inputs, outputsNum, 1);
 }
 
 bool Agree(float a, float b)
