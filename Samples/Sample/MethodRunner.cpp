@@ -19,7 +19,9 @@
 #include <cstring>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <thread>
+#include <utility>
 
 namespace nrdlab
 {
@@ -141,6 +143,33 @@ bool ParseSettings(const std::string& text, nrd::CommonSettings& common, MethodA
         return false;
     }
     return true;
+}
+
+// The context of runs that bring none: one per device index and validation setting, created on
+// first use and kept until the process ends, so that a process running many methods (the quality
+// tests) does not create and destroy an instance and a device per run (the NVIDIA H200's driver
+// refused new instances with VK_ERROR_INCOMPATIBLE_DRIVER after about 28 of them in one process).
+// Null if it cannot be created (tried again on the next run). The contexts are never destroyed: at
+// exit the driver's own state may already be gone (the NVIDIA driver crashed in vkDestroyDevice
+// from a static destructor), and the process's end releases them.
+nrd::lab::VulkanContext* ProcessContext(int32_t device, bool validation)
+{
+    static std::mutex mutex;
+    static auto* contexts = new std::map<std::pair<int32_t, bool>, std::unique_ptr<nrd::lab::VulkanContext>>();
+    std::lock_guard<std::mutex> lock(mutex);
+    std::unique_ptr<nrd::lab::VulkanContext>& context = (*contexts)[{device, validation}];
+    if (!context)
+    {
+        nrd::lab::VulkanContextDesc desc;
+        desc.enableValidation = validation;
+        desc.deviceIndex = device;
+        desc.quiet = true;
+        std::unique_ptr<nrd::lab::VulkanContext> created(new nrd::lab::VulkanContext());
+        if (created->Create(desc) != VK_SUCCESS)
+            return nullptr;
+        context = std::move(created);
+    }
+    return context.get();
 }
 
 struct Textures
@@ -479,20 +508,13 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             return false;
     }
 
-    nrd::lab::VulkanContext ownContext;
-    if (!o.context)
+    nrd::lab::VulkanContext* context = o.context ? o.context : ProcessContext(o.device, o.validation);
+    if (!context)
     {
-        nrd::lab::VulkanContextDesc vkDesc;
-        vkDesc.enableValidation = o.validation;
-        vkDesc.deviceIndex = o.device;
-        vkDesc.quiet = true;
-        if (ownContext.Create(vkDesc) != VK_SUCCESS)
-        {
-            error = "could not create a Vulkan device (index " + std::to_string(o.device) + ")";
-            return false;
-        }
+        error = "could not create a Vulkan device (index " + std::to_string(o.device) + ")";
+        return false;
     }
-    nrd::lab::VulkanContext& vk = o.context ? *o.context : ownContext;
+    nrd::lab::VulkanContext& vk = *context;
     if (!vk.GetVkDevice())
     {
         error = "the given Vulkan context is not created";

@@ -62,10 +62,11 @@ struct RunOptions
     uint32_t warmup = 8;            // Frames excluded from the averages.
     int32_t device = -1;            // Vulkan physical device index; -1: first discrete GPU, else first.
     bool validation = false;        // VK_LAYER_KHRONOS_validation; messages fail the run.
-    // (Optional) Run on this context instead of creating one ('device' and 'validation' are then
-    // the context's). A process that runs many methods (nrd-bench) creates one context for all of
-    // them: every instance and device a driver creates and destroys costs it state that not every
-    // driver gives back (the H100's driver refused new instances after a few dozen).
+    // (Optional) Run on this context ('device' and 'validation' are then the context's). Without
+    // one, the run takes the process's context for 'device' and 'validation' (created by the first
+    // run that asks for it, kept until the process ends): every instance and device a driver creates
+    // and destroys costs it state that not every driver gives back (the H100's and H200's drivers
+    // refused new instances after a few dozen in one process).
     nrd::lab::VulkanContext* context = nullptr;
     std::string settingsJson;       // (Optional) JSON text with "common", "sigma", "reference", "tiledShadow".
     std::string cacheDirectory;     // Scene-lab frame cache; empty: the default one; "none": off.
