@@ -67,7 +67,9 @@ struct Shortfall
 const Shortfall kShortfalls[] = {
     {"light_switch", "diffuse", 64, 0.0, 0.0, 0.0, 8},         // lag 8 (ratio 12.06, FLIP 0.0935 -> 0.0555, bias +0.2%)
     // 128x128, 40 frames, truth 64 spp (the same runs on the H100: Shaders/Reblur/README.md).
-    {"venetian_blinds", "diffuse", 128, 1.96, 0.0, 0.0, 0},  // ratio 2.06 (bar 3.00)
+    // lavapipe with a 64-spp truth: ratio 2.96 (bar 3.00); the NVIDIA H200 with the bar's 256-spp truth: 3.11
+    // (0.0192 against 0.0199, met; Shaders/Reblur/README.md).
+    {"venetian_blinds", "diffuse", 128, 2.82, 0.0, 0.0, 0},  // ratio 2.96 (bar 3.00)
 };
 // clang-format on
 

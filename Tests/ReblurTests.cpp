@@ -384,3 +384,79 @@ TEST_CASE("REBLUR_DIFFUSE removes most of the noise of a flat signal and stays f
     }
     CHECK(context->ValidationMessageCount() == 0);
 }
+
+TEST_CASE("REBLUR diffuse keeps the history short where a line of light moves over a still surface, long elsewhere",
+          "[vulkan][reblur]")
+{
+    // The plane at 0.45 crossed by a line of light one pixel high (1.3) that moves down one row every
+    // two frames (venetian_blinds' stripes, without motion vectors), no confidence input: the change
+    // test finds the rows the line crosses (this frame's and the previous frame's residuals covary over
+    // the 5x5 taps) and the lighting change record keeps their histories at 1 + 1 frames; rows the
+    // line never reaches accumulate every frame. The permanent debt texture (R8) holds the record in
+    // its top 3 bits (moving from 2 on); the fast history's .y the length.
+    ResourceDesc debtDesc = {}, fastDesc = {};
+    {
+        CoreDenoiser d(Method::REBLUR_DIFFUSE, ReblurRig::kW, ReblurRig::kH);
+        REQUIRE(SetCommonSettings(*d.denoiser, test::StillCameraSettings(0)) == Result::SUCCESS);
+        const DispatchDesc* dispatches = nullptr;
+        uint32_t num = 0;
+        REQUIRE(GetComputeDispatches(*d.denoiser, nullptr, 0, dispatches, num) == Result::SUCCESS);
+        bool found = false;
+        for (uint32_t i = 0; i < num && !found; i++)
+            if (std::string(dispatches[i].name) == "REBLUR diffuse - History fix")
+            {
+                REQUIRE(dispatches[i].resourcesNum == 9);
+                fastDesc = dispatches[i].resources[6];  // gOut_Fast
+                debtDesc = dispatches[i].resources[8];  // gOut_Debt
+                found = true;
+            }
+        REQUIRE(found);
+        REQUIRE(debtDesc.type == ResourceType::PERMANENT_POOL);
+        REQUIRE(fastDesc.type == ResourceType::PERMANENT_POOL);
+    }
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    {
+        ReblurRig rig(*context);
+        rig.Create(ReblurSettings());
+        const uint32_t w = ReblurRig::kW, h = ReblurRig::kH, frames = 14, firstRow = 1, farRow = h - 2;
+        std::vector<float> in(size_t(w) * h * 4), out;
+        uint32_t row = firstRow;
+        for (uint32_t frame = 0; frame < frames; frame++)
+        {
+            row = firstRow + frame / 2;
+            for (uint32_t i = 0; i < w * h; i++)
+            {
+                float v = i / w == row ? 1.3f : 0.45f;
+                in[i * 4 + 0] = in[i * 4 + 1] = in[i * 4 + 2] = v;
+                in[i * 4 + 3] = 0.5f;
+            }
+            out = rig.Frame(frame, in);
+        }
+        std::vector<float> debt = test::ReadbackPoolTexture(*context, rig.integration, ResourceType::PERMANENT_POOL, debtDesc.indexInPool);
+        std::vector<float> fast = test::ReadbackPoolTexture(*context, rig.integration, ResourceType::PERMANENT_POOL, fastDesc.indexInPool);
+        REQUIRE(debt.size() == size_t(w) * h);
+        REQUIRE(fast.size() == 2u * w * h);
+        auto record = [&](uint32_t x, uint32_t y) { return uint32_t(std::floor(debt[size_t(y) * w + x] * 255.0f + 0.5f)) >> 5u; };
+        auto length = [&](uint32_t x, uint32_t y) { return fast[(size_t(y) * w + x) * 2 + 1]; };
+        size_t shortOnLine = 0, longAway = 0;
+        for (uint32_t x = 2; x < w - 2; x++)
+        {
+            // The line's row this frame (it arrived the frame before): moving, 1 + 1 frames.
+            shortOnLine += record(x, row) >= 2u && length(x, row) <= 2.0f;
+            // A row 7 below the line's last one: never lit, every frame accumulated.
+            longAway += record(x, farRow) == 0u && length(x, farRow) == float(frames);
+        }
+        INFO("row " << row << ": record " << record(w / 2, row) << ", length " << length(w / 2, row) << "; row " << farRow
+                    << ": record " << record(w / 2, farRow) << ", length " << length(w / 2, farRow));
+        CHECK(shortOnLine == w - 4);
+        CHECK(longAway == w - 4);
+        // The output shows the line: its row above the rows around it.
+        for (uint32_t x = 2; x < w - 2; x++)
+        {
+            INFO("x " << x);
+            CHECK(out[(size_t(row) * w + x) * 4] > out[(size_t(row + 3) * w + x) * 4] + 0.3f);
+        }
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}

@@ -69,4 +69,9 @@ float _NRD_LightingChange_UnpackValue(float packed)
     return float(u & valueLevels) / float(valueLevels);
 }
 
+// A residual z (a sample's departure from its history in its standard deviations, the change tests
+// of REBLUR and RELAX) as the 5-bit value beside the record: steps of 0.5 in [-8, 7.5].
+float _NRD_LightingChange_PackResidual(float z) { return clamp(floor(_NRD_Sanitize(z, 0.0) * 2.0 + 0.5) + 16.0, 0.0, 31.0) / 31.0; }
+float _NRD_LightingChange_UnpackResidual(float value) { return (floor(value * 31.0 + 0.5) - 16.0) * 0.5; }
+
 #endif

@@ -148,8 +148,19 @@ void main()
     float historyLength = isPrePass ? 0.0 : texelFetch(sampler2D(gIn_Fast, gNearestClamp), pixel, 0).y;
     historyLength = clamp(_NRD_Sanitize(historyLength, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
     float debt = isPrePass ? 0.0 : texelFetch(sampler2D(gIn_Debt, gNearestClamp), pixel, 0).x;
+    bool isLightingMoving = false;
+#if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
+    // Without a confidence input the debt texel holds the lighting change record (Reblur_Common.glsl).
+    if ((gFlags & REBLUR_FLAG_CONFIDENCE) == 0u)
+    {
+        isLightingMoving = _NRD_LightingChange_IsMoving(_NRD_LightingChange_UnpackRecord(debt));
+        debt = 0.0;
+    }
+#endif
     float fixLength = historyLength + clamp(_NRD_Sanitize(debt, 0.0), 0.0, 1.0) * REBLUR_DEBT_SCALE;
     float radius = _Reblur_BlurRadius(historyLength, center.w, viewZ, s.roughness) * gPassRadiusScale;
+    if (isLightingMoving)
+        radius *= REBLUR_MOVING_RADIUS_SCALE;
     bool isReference = (gFlags & REBLUR_FLAG_REFERENCE) != 0u;
 #if REBLUR_SPECULAR
     // Specular: a history the confidence cut keeps the fix for the debt's frames longer. The cut
@@ -163,7 +174,7 @@ void main()
 #else
     float fixFrames = gHistoryFixFrameNum;
 #endif
-    if (gPassIndex == 1u && historyLength < fixFrames && !isReference)
+    if (gPassIndex == 1u && historyLength < fixFrames && !isReference && !isLightingMoving)
     {
         Store(pixel, _NRD_ClampToHalf(HistoryFix(pixel, s, center, fixLength)));
         return;

@@ -103,6 +103,34 @@
 // in R8 UNORM as debt / REBLUR_MAX_HISTORY_FIX_FRAME_NUM (NRDSettings.h: 3).
 #define REBLUR_DEBT_SCALE 3.0
 
+// Diffuse lighting change test (Reblur_TemporalAccumulation.comp), without a confidence input: lines
+// of light narrower than any clamping box that move over a still surface without motion vectors
+// (venetian_blinds) change a pixel by less than one sample's noise a frame. What shows is that
+// departures persist and keep their spatial pattern: each 5x5 tap on the same surface has a
+// residual z (its sample against its own history, in the history's per-pixel deviation), and where
+// this frame's and the previous frame's residuals covary over the taps (their mean product less the
+// product of their means, which takes out an error the whole window shares, such as a blotch of the
+// blurred history or a uniform lighting change the anti-lag follows) by more than CHANGE_THRESHOLD,
+// with the pixel's own |z| at least CHANGE_MIN_RESIDUAL (where the lighting already moves: any
+// positive covariance), the lighting change record (Shaders/Include/LightingChange.glsl) rises by 2,
+// else it falls by 1, and the lighting moves from 3 on: two findings in consecutive frames (one
+// finding alone moved the still scenes' noisy windows about one frame in twenty: static +40% relMSE
+// at 128x128, two in a row +11%; Shaders/Reblur/README.md). While it says the lighting moves, the history keeps MOVING_HISTORY frames before this
+// frame's sample, the history fix does not run (it would spread the lines) and the blur and post-blur
+// radii are scaled by MOVING_RADIUS_SCALE.
+#define REBLUR_CHANGE_MIN_TAPS 12.0
+#define REBLUR_CHANGE_THRESHOLD 0.25
+#define REBLUR_CHANGE_MIN_RESIDUAL 0.5
+#define REBLUR_MOVING_HISTORY 1.0
+#define REBLUR_MOVING_RADIUS_SCALE 0.2
+
+// Debt texture (R8 UNORM, per signal): with a confidence input, the confidence debt / REBLUR_DEBT_SCALE;
+// without one (diffuse radiance), the lighting change record and this frame's residual at the pixel
+// (the change test above).
+#define _NRD_LIGHTING_CHANGE_RISE 2u
+#define _NRD_LIGHTING_CHANGE_MOVING 3u
+#include "LightingChange.glsl"
+
 //==================================================================================================
 // Inputs.
 //==================================================================================================

@@ -82,6 +82,7 @@ void main()
     imageStore(gOut_History, pixel, _NRD_ClampToHalf(result));
     imageStore(gOut_Fast, pixel, vec4(aux.x, historyLength, 0.0, 0.0));
     imageStore(gOut_Stabilized, pixel, vec4(aux.z));
-    // Confidence debt (occlusion: none, its auxiliary values have no room for it).
-    imageStore(gOut_Debt, pixel, vec4(aux.w / REBLUR_DEBT_SCALE));
+    // The debt texel as the temporal pass packed it (Reblur_Common.glsl; occlusion: none, its
+    // auxiliary values have no room for it).
+    imageStore(gOut_Debt, pixel, vec4(aux.w));
 }

@@ -374,6 +374,63 @@ void main()
         }
     }
 
+#if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
+    // Lighting change test (REBLUR_CHANGE_* in Reblur_Common.glsl), without a confidence input (the
+    // debt texture then holds the record and the residual). Taps as the per-pixel test's: this frame's
+    // pixel q against the nearest previous texel p of the same offset, on the same surface both times.
+    uint record = 0u;
+    float residual = 0.0;
+    if (!hasConfidence && !isReference && historyLength > 0.0)
+    {
+        ivec2 size = ivec2(gResourceSize);
+        ivec2 nearest = rp.surface.footprint.origin + ivec2(greaterThanEqual(rp.surface.footprint.f, vec2(0.5)));
+        if (all(greaterThanEqual(nearest, ivec2(0))) && all(lessThan(nearest, size)))
+            record = _NRD_LightingChange_UnpackRecord(texelFetch(sampler2D(gPrev_Debt, gNearestClamp), nearest, 0).x);
+        float zTolerance1 = gDisocclusionThreshold * 4.0 * viewZ + 4.0 * viewZ / max(gProjectY, NRD_EPS);
+        float zTolerancePrev = gDisocclusionThreshold * 4.0 * rp.expectedViewZ + 4.0 * rp.expectedViewZ / max(gProjectY, NRD_EPS);
+        float sumZ = 0.0, sumZPrev = 0.0, sumProducts = 0.0, taps = 0.0;
+        for (int j = -2; j <= 2; j++)
+        {
+            for (int i = -2; i <= 2; i++)
+            {
+                ivec2 q = pixel + ivec2(i, j);
+                ivec2 p = nearest + ivec2(i, j);
+                if (any(lessThan(min(q, p), ivec2(0))) || any(greaterThanEqual(max(q, p), size)) || !_Reblur_IsTraced(q))
+                    continue;
+                vec4 sq = texelFetch(sampler2D(gIn_Signal, gNearestClamp), q, 0);
+                float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+                float zp = texelFetch(sampler2D(gPrev_ViewZ, gNearestClamp), p, 0).x;
+                if (!_NRD_IsFinite(sq) || !(abs(zq - viewZ) <= zTolerance1) || !(abs(zp - rp.expectedViewZ) <= zTolerancePrev))
+                    continue;
+                vec2 sigmaLength = texelFetch(sampler2D(gPrev_Fast, gNearestClamp), p, 0).xy;
+                float n = clamp(_NRD_Sanitize(sigmaLength.y, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
+                if (n < 2.0)
+                    continue;
+                float mu = _Reblur_Luma(_Reblur_Sanitize(texelFetch(sampler2D(gPrev_History, gNearestClamp), p, 0)));
+                float sigmaP = max(_NRD_Sanitize(sigmaLength.x, 0.0), 0.0);
+                float variance = sigmaP * sigmaP * (1.0 + 1.0 / n) + 1e-4 * mu * mu + 1e-8;
+                float z = clamp((_Reblur_Luma(_Reblur_Sanitize(sq)) - mu) * inversesqrt(variance), -7.75, 7.75);
+                float zPrev = _NRD_LightingChange_UnpackResidual(
+                    _NRD_LightingChange_UnpackValue(texelFetch(sampler2D(gPrev_Debt, gNearestClamp), p, 0).x));
+                sumZ += z;
+                sumZPrev += zPrev;
+                sumProducts += z * zPrev;
+                taps += 1.0;
+                if (i == 0 && j == 0)
+                    residual = z;
+            }
+        }
+        float t = max(taps, REBLUR_CHANGE_MIN_TAPS);
+        float covariance = taps > 0.0 ? sumProducts / t - (sumZ / t) * (sumZPrev / t) : 0.0;
+        bool isMoving = _NRD_LightingChange_IsMoving(record);
+        bool isChanged = taps > 0.0 && ((covariance > REBLUR_CHANGE_THRESHOLD && abs(residual) >= REBLUR_CHANGE_MIN_RESIDUAL) ||
+                                        (isMoving && covariance > 0.0));
+        record = _NRD_LightingChange_Update(record, isChanged);
+        if (_NRD_LightingChange_IsMoving(record))
+            historyLength = min(historyLength, REBLUR_MOVING_HISTORY);
+    }
+#endif
+
     // Accumulation (checkerboard: untraced pixels keep their history).
     bool isSampled = isTraced || historyLength == 0.0 || (gFlags & REBLUR_FLAG_PREPASS) != 0u;
     float newLength = min(historyLength + (isSampled ? 1.0 : 0.0), maxLength);
@@ -400,7 +457,12 @@ void main()
 #endif
     }
 
-    vec4 aux = vec4(fast, newLength, stabilized, debt);
+#if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
+    float debtTexel = hasConfidence ? debt / REBLUR_DEBT_SCALE : _NRD_LightingChange_Pack(record, _NRD_LightingChange_PackResidual(residual));
+#else
+    float debtTexel = debt / REBLUR_DEBT_SCALE;
+#endif
+    vec4 aux = vec4(fast, newLength, stabilized, debtTexel);
 #if REBLUR_OCCLUSION
     imageStore(gInOut_Signal, pixel, vec4(aux.xyz, slow.w)); // .xyz are free: auxiliary values
 #else

@@ -132,9 +132,4 @@ vec2 Relax_UnpackLengthAndDebt(float packed)
     return vec2(v - 64.0 * debt, debt);
 }
 
-// The residual z (a sample's departure from its fast history in its standard deviations) in the
-// record's 5-bit value: steps of 0.5 in [-8, 7.5].
-float Relax_PackResidual(float z) { return clamp(floor(z * 2.0 + 0.5) + 16.0, 0.0, 31.0) / 31.0; }
-float Relax_UnpackResidual(float value) { return (floor(value * 31.0 + 0.5) - 16.0) * 0.5; }
-
 #endif

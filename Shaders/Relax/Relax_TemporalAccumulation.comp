@@ -430,7 +430,7 @@ void main()
                     float lf = _NRD_Luminance(f.rgb);
                     float sigma = sqrt(max(f.w * f.w - ls * ls, 0.0) * RELAX_RESIDUAL_NOISE) + RELAX_RESIDUAL_FLOOR * max(lf, l) + 1e-6;
                     float z = clamp((l - lf) / sigma, -7.75, 7.75);
-                    float zPrev = Relax_UnpackResidual(_NRD_LightingChange_UnpackValue(texelFetch(gPrev_Length, qPrev, 0).y));
+                    float zPrev = _NRD_LightingChange_UnpackResidual(_NRD_LightingChange_UnpackValue(texelFetch(gPrev_Length, qPrev, 0).y));
                     residualProducts += z * zPrev;
                     if (dx == 0 && dy == 0)
                         residual = z;
@@ -583,5 +583,5 @@ void main()
     record = 0u;
 #endif
     imageStore(gOut_Length, pixel, vec4(Relax_PackLengthAndDebt(historyLength, debt),
-                                        _NRD_LightingChange_Pack(record, Relax_PackResidual(hasSample ? residual : 0.0)), 0.0, 0.0));
+                                        _NRD_LightingChange_Pack(record, _NRD_LightingChange_PackResidual(hasSample ? residual : 0.0)), 0.0, 0.0));
 }
