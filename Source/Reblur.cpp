@@ -15,7 +15,7 @@
 //   7. Temporal stabilization  luminance history clamped to the neighbourhood, anti-lag; output.
 //
 // Memory (bytes per pixel): permanent, per signal, history RGBA16F 8 + fast history and length
-// RG16F 4 + stabilized luminance R16F 2 + confidence debt R8 1, and viewZ R16F 2 x 2 (ping-pong);
+// RG16F 4 + stabilized luminance R16F 2 + debt R8 1 (confidence debt; diffuse: lighting change record), and viewZ R16F 2 x 2 (ping-pong);
 // transient, shared by the
 // signals, RGBA16F 8 and the 1/16 x 1/16 tile map. The application's output texture carries the
 // temporal pass's auxiliary values (fast history, length, reprojected stabilized luminance) to the
@@ -324,7 +324,8 @@ private:
         const ResourceRef history = builder.AddPermanentTexture(Format::RGBA16_SFLOAT);
         const ResourceRef fast = builder.AddPermanentTexture(Format::RG16_SFLOAT);
         const ResourceRef stabilized = builder.AddPermanentTexture(Format::R16_SFLOAT);
-        // Confidence debt: the frames of history the confidence input took (keeps the history fix off).
+        // Debt: specular and occlusion, the frames of history the confidence input took (keeps the history
+        // fix off); diffuse radiance, the lighting change record and residual (Reblur_Common.glsl).
         const ResourceRef debt = builder.AddPermanentTexture(Format::R8_UNORM);
 
         Chain& chain = m_Chains[m_ChainsNum++];

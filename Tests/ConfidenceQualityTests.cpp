@@ -186,7 +186,12 @@ const Shortfall kShortfalls[] = {
     {"fast_occluder", "RELAX_DIFFUSE", 64, 1.015, false},   {"moving_occluder", "RELAX_DIFFUSE", 64, 1.050, false},
     {"venetian_blinds", "RELAX_DIFFUSE", 64, 1.015, false}, {"mesh_character", "RELAX_DIFFUSE", 64, 1.010, false},
     {"mesh_thin", "RELAX_DIFFUSE", 64, 1.010, false},       {"light_switch", "RELAX_DIFFUSE", 128, 1.0, true},
+    {"venetian_blinds", "REBLUR_DIFFUSE", 64, 1.010, false}, // 1.003x (REBLUR's diffuse change test runs in both)
 };
+
+// "No higher" within the rounding of the GPU's arithmetic: the same run reads moving_occluder
+// REBLUR_DIFFUSE at 0.9974x on lavapipe and 1.0000022x on the NVIDIA H200.
+constexpr double kDeviceRounding = 1e-5;
 
 const Shortfall* FindShortfall(const Case& c)
 {
@@ -206,12 +211,12 @@ void CheckLightingChange(const Case& c, bool halved = false)
                  << p.with.lagLowpassFrames);
     const Shortfall* shortfall = FindShortfall(c);
     const double ratio = p.with.mean.relmseDenoised / p.without.mean.relmseDenoised;
-    CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0));
+    CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0 + kDeviceRounding));
     CHECK(lagWith <= lagWithout);
     if (halved && !(shortfall && shortfall->trailingNotHalved))
         CHECK(2 * lagWith <= lagWithout);
     if (shortfall) // a pinned pair that meets the bar again must leave the table
-        CHECK_FALSE((ratio <= 1.0 && (!halved || 2 * lagWith <= lagWithout)));
+        CHECK_FALSE((ratio <= 1.0 + kDeviceRounding && (!halved || 2 * lagWith <= lagWithout)));
 }
 
 } // namespace

@@ -150,12 +150,9 @@ void main()
     float debt = isPrePass ? 0.0 : texelFetch(sampler2D(gIn_Debt, gNearestClamp), pixel, 0).x;
     bool isLightingMoving = false;
 #if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
-    // Without a confidence input the debt texel holds the lighting change record (Reblur_Common.glsl).
-    if ((gFlags & REBLUR_FLAG_CONFIDENCE) == 0u)
-    {
-        isLightingMoving = _NRD_LightingChange_IsMoving(_NRD_LightingChange_UnpackRecord(debt));
-        debt = 0.0;
-    }
+    // Diffuse radiance: the debt texel holds the lighting change record (Reblur_Common.glsl).
+    isLightingMoving = _NRD_LightingChange_IsMoving(_NRD_LightingChange_UnpackRecord(debt));
+    debt = 0.0;
 #endif
     float fixLength = historyLength + clamp(_NRD_Sanitize(debt, 0.0), 0.0, 1.0) * REBLUR_DEBT_SCALE;
     float radius = _Reblur_BlurRadius(historyLength, center.w, viewZ, s.roughness) * gPassRadiusScale;

@@ -103,7 +103,7 @@
 // in R8 UNORM as debt / REBLUR_MAX_HISTORY_FIX_FRAME_NUM (NRDSettings.h: 3).
 #define REBLUR_DEBT_SCALE 3.0
 
-// Diffuse lighting change test (Reblur_TemporalAccumulation.comp), without a confidence input: lines
+// Diffuse lighting change test (Reblur_TemporalAccumulation.comp), with or without a confidence input: lines
 // of light narrower than any clamping box that move over a still surface without motion vectors
 // (venetian_blinds) change a pixel by less than one sample's noise a frame. What shows is that
 // departures persist and keep their spatial pattern: each 5x5 tap on the same surface has a
@@ -124,9 +124,9 @@
 #define REBLUR_MOVING_HISTORY 1.0
 #define REBLUR_MOVING_RADIUS_SCALE 0.2
 
-// Debt texture (R8 UNORM, per signal): with a confidence input, the confidence debt / REBLUR_DEBT_SCALE;
-// without one (diffuse radiance), the lighting change record and this frame's residual at the pixel
-// (the change test above).
+// Debt texture (R8 UNORM, per signal): diffuse radiance, the lighting change record and this frame's
+// residual at the pixel (the change test above, with or without a confidence input); specular and
+// the occlusion signals, the confidence debt / REBLUR_DEBT_SCALE (0 without a confidence input).
 #define _NRD_LIGHTING_CHANGE_RISE 2u
 #define _NRD_LIGHTING_CHANGE_MOVING 3u
 #include "LightingChange.glsl"
