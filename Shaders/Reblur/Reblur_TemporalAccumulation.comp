@@ -31,6 +31,34 @@ float CutHistory(float historyLength, float keep)
     return max(floor(historyLength * keep), min(historyLength, 1.0));
 }
 
+#if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
+// One tap of the lighting change test: this frame's pixel q against the previous texel p, both on
+// the centre's surface (view depths within the tolerances), p's history at least 2 frames long.
+// z.x: q's sample against p's history in p's per-pixel deviation; z.y: p's stored residual.
+bool ChangeTestTap(ivec2 q, ivec2 p, float viewZ, float tolerance, float expectedViewZ, float tolerancePrev, out vec2 z)
+{
+    z = vec2(0.0);
+    ivec2 size = ivec2(gResourceSize);
+    if (any(lessThan(min(q, p), ivec2(0))) || any(greaterThanEqual(max(q, p), size)) || !_Reblur_IsTraced(q))
+        return false;
+    vec4 sq = texelFetch(sampler2D(gIn_Signal, gNearestClamp), q, 0);
+    float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+    float zp = texelFetch(sampler2D(gPrev_ViewZ, gNearestClamp), p, 0).x;
+    if (!_NRD_IsFinite(sq) || !(abs(zq - viewZ) <= tolerance) || !(abs(zp - expectedViewZ) <= tolerancePrev))
+        return false;
+    vec2 sigmaLength = texelFetch(sampler2D(gPrev_Fast, gNearestClamp), p, 0).xy;
+    float n = clamp(_NRD_Sanitize(sigmaLength.y, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
+    if (n < 2.0)
+        return false;
+    float mu = _Reblur_Luma(_Reblur_Sanitize(texelFetch(sampler2D(gPrev_History, gNearestClamp), p, 0)));
+    float sigmaP = max(_NRD_Sanitize(sigmaLength.x, 0.0), 0.0);
+    float variance = sigmaP * sigmaP * (1.0 + 1.0 / n) + 1e-4 * mu * mu + 1e-8;
+    z.x = clamp((_Reblur_Luma(_Reblur_Sanitize(sq)) - mu) * inversesqrt(variance), -7.75, 7.75);
+    z.y = _NRD_LightingChange_UnpackResidual(_NRD_LightingChange_UnpackValue(texelFetch(sampler2D(gPrev_Debt, gNearestClamp), p, 0).x));
+    return true;
+}
+#endif
+
 void main()
 {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -398,43 +426,42 @@ void main()
             record = _NRD_LightingChange_UnpackRecord(texelFetch(sampler2D(gPrev_Debt, gNearestClamp), nearest, 0).x);
         float zTolerance1 = gDisocclusionThreshold * 4.0 * viewZ + 4.0 * viewZ / max(gProjectY, NRD_EPS);
         float zTolerancePrev = gDisocclusionThreshold * 4.0 * rp.expectedViewZ + 4.0 * rp.expectedViewZ / max(gProjectY, NRD_EPS);
-        float sumZ = 0.0, sumZPrev = 0.0, sumProducts = 0.0, taps = 0.0;
-        for (int j = -2; j <= 2; j++)
-        {
-            for (int i = -2; i <= 2; i++)
-            {
-                ivec2 q = pixel + ivec2(i, j);
-                ivec2 p = nearest + ivec2(i, j);
-                if (any(lessThan(min(q, p), ivec2(0))) || any(greaterThanEqual(max(q, p), size)) || !_Reblur_IsTraced(q))
-                    continue;
-                vec4 sq = texelFetch(sampler2D(gIn_Signal, gNearestClamp), q, 0);
-                float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
-                float zp = texelFetch(sampler2D(gPrev_ViewZ, gNearestClamp), p, 0).x;
-                if (!_NRD_IsFinite(sq) || !(abs(zq - viewZ) <= zTolerance1) || !(abs(zp - rp.expectedViewZ) <= zTolerancePrev))
-                    continue;
-                vec2 sigmaLength = texelFetch(sampler2D(gPrev_Fast, gNearestClamp), p, 0).xy;
-                float n = clamp(_NRD_Sanitize(sigmaLength.y, 0.0), 0.0, NRD_HISTORY_LENGTH_MAX);
-                if (n < 2.0)
-                    continue;
-                float mu = _Reblur_Luma(_Reblur_Sanitize(texelFetch(sampler2D(gPrev_History, gNearestClamp), p, 0)));
-                float sigmaP = max(_NRD_Sanitize(sigmaLength.x, 0.0), 0.0);
-                float variance = sigmaP * sigmaP * (1.0 + 1.0 / n) + 1e-4 * mu * mu + 1e-8;
-                float z = clamp((_Reblur_Luma(_Reblur_Sanitize(sq)) - mu) * inversesqrt(variance), -7.75, 7.75);
-                float zPrev = _NRD_LightingChange_UnpackResidual(
-                    _NRD_LightingChange_UnpackValue(texelFetch(sampler2D(gPrev_Debt, gNearestClamp), p, 0).x));
-                sumZ += z;
-                sumZPrev += zPrev;
-                sumProducts += z * zPrev;
-                taps += 1.0;
-                if (i == 0 && j == 0)
-                    residual = z;
-            }
-        }
-        float t = max(taps, REBLUR_CHANGE_MIN_TAPS);
-        float covariance = taps > 0.0 ? sumProducts / t - (sumZ / t) * (sumZPrev / t) : 0.0;
+        // The pixel's own tap first: a change needs its |z| at least CHANGE_MIN_RESIDUAL unless the
+        // lighting already moves, so most pixels skip the other 24 taps (the same result).
+        vec2 zc;
+        bool isCenter = ChangeTestTap(pixel, nearest, viewZ, zTolerance1, rp.expectedViewZ, zTolerancePrev, zc);
+        residual = isCenter ? zc.x : 0.0;
         bool isMoving = _NRD_LightingChange_IsMoving(record);
-        bool isChanged = taps > 0.0 && ((covariance > REBLUR_CHANGE_THRESHOLD && abs(residual) >= REBLUR_CHANGE_MIN_RESIDUAL) ||
-                                        (isMoving && covariance > 0.0));
+        bool isChanged = false;
+        if (isMoving || (isCenter && abs(zc.x) >= REBLUR_CHANGE_MIN_RESIDUAL))
+        {
+            float sumZ = 0.0, sumZPrev = 0.0, sumProducts = 0.0, taps = 0.0;
+            if (isCenter)
+            {
+                sumZ = zc.x;
+                sumZPrev = zc.y;
+                sumProducts = zc.x * zc.y;
+                taps = 1.0;
+            }
+            for (int j = -2; j <= 2; j++)
+            {
+                for (int i = -2; i <= 2; i++)
+                {
+                    vec2 zt;
+                    if ((i == 0 && j == 0) ||
+                        !ChangeTestTap(pixel + ivec2(i, j), nearest + ivec2(i, j), viewZ, zTolerance1, rp.expectedViewZ, zTolerancePrev, zt))
+                        continue;
+                    sumZ += zt.x;
+                    sumZPrev += zt.y;
+                    sumProducts += zt.x * zt.y;
+                    taps += 1.0;
+                }
+            }
+            float t = max(taps, REBLUR_CHANGE_MIN_TAPS);
+            float covariance = taps > 0.0 ? sumProducts / t - (sumZ / t) * (sumZPrev / t) : 0.0;
+            isChanged = taps > 0.0 && ((covariance > REBLUR_CHANGE_THRESHOLD && abs(residual) >= REBLUR_CHANGE_MIN_RESIDUAL) ||
+                                       (isMoving && covariance > 0.0));
+        }
         record = _NRD_LightingChange_Update(record, isChanged);
         if (_NRD_LightingChange_IsMoving(record))
             historyLength = min(historyLength, REBLUR_MOVING_HISTORY);
