@@ -389,7 +389,7 @@ TEST_CASE("REBLUR diffuse keeps the history short where a line of light moves ov
           "[vulkan][reblur]")
 {
     // The plane at 0.45 crossed by a line of light one pixel high (1.3) that moves down one row every
-    // two frames (venetian_blinds' stripes, without motion vectors), no confidence input: the change
+    // two frames (venetian_blinds' stripes, without motion vectors): the change
     // test finds the rows the line crosses (this frame's and the previous frame's residuals covary over
     // the 5x5 taps) and the lighting change record keeps their histories at 1 + 1 frames; rows the
     // line never reaches accumulate every frame. The permanent debt texture (R8) holds the record in
@@ -416,10 +416,16 @@ TEST_CASE("REBLUR diffuse keeps the history short where a line of light moves ov
     }
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
+    // Without a confidence input and with one that is 1 everywhere (the test runs after the
+    // confidence's cut, on the same record).
+    for (bool withConfidence : {false, true})
     {
+        INFO((withConfidence ? "with" : "without") << " a confidence input");
         ReblurRig rig(*context);
-        rig.Create(ReblurSettings());
-        const uint32_t w = ReblurRig::kW, h = ReblurRig::kH, frames = 14, firstRow = 1, farRow = h - 2;
+        ReblurSettings settings;
+        settings.isConfidenceInput = withConfidence;
+        rig.Create(settings);
+        const uint32_t w = ReblurRig::kW, h = ReblurRig::kH, frames = 14, firstRow = 1, farRow = h - 2; // (the rig's confidence is 1)
         std::vector<float> in(size_t(w) * h * 4), out;
         uint32_t row = firstRow;
         for (uint32_t frame = 0; frame < frames; frame++)
