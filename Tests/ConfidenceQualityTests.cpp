@@ -170,10 +170,10 @@ struct Case
 // light toggles every 4 frames: 4 -> 4, Shaders/Confidence/README.md).
 // Pairs that miss issue 16's bar since RELAX's diffuse change test (fbfba8c): the test keeps
 // RELAX_DIFFUSE's histories at 3 frames where the lighting keeps changing, and confidence shortens
-// them further, so RELAX_DIFFUSE's relMSE with confidence rises by up to 4% (lavapipe, 40 frames;
+// them further, so RELAX_DIFFUSE's relMSE with confidence rises by up to 4.5% (lavapipe, 40 frames;
 // Shaders/Confidence/README.md, "RELAX_DIFFUSE after RELAX's diffuse change test"). Each is pinned at its
 // measured ratio plus a small margin so that a further loss fails; remove a line when the pair
-// meets the bar again (a line that is met fails too).
+// meets the bar again (a line met by more than kDeviceSpread fails too).
 struct Shortfall
 {
     const char* scene;
@@ -183,15 +183,20 @@ struct Shortfall
     bool trailingNotHalved;
 };
 const Shortfall kShortfalls[] = {
-    {"fast_occluder", "RELAX_DIFFUSE", 64, 1.015, false},   {"moving_occluder", "RELAX_DIFFUSE", 64, 1.050, false},
-    {"venetian_blinds", "RELAX_DIFFUSE", 64, 1.015, false}, {"mesh_character", "RELAX_DIFFUSE", 64, 1.010, false},
-    {"mesh_thin", "RELAX_DIFFUSE", 64, 1.010, false},       {"light_switch", "RELAX_DIFFUSE", 128, 1.0, true},
+    {"fast_occluder", "RELAX_DIFFUSE", 64, 1.015, false},   // 1.004x (NVIDIA H200: 0.999x)
+    {"moving_light", "RELAX_DIFFUSE", 64, 1.010, false},    // 0.998x (NVIDIA H200: 1.002x)
+    {"moving_occluder", "RELAX_DIFFUSE", 64, 1.055, false}, // 1.045x
+    {"venetian_blinds", "RELAX_DIFFUSE", 64, 1.015, false}, // 1.003x
+    {"mesh_thin", "RELAX_DIFFUSE", 64, 1.010, false},       // 1.004x
     {"venetian_blinds", "REBLUR_DIFFUSE", 64, 1.010, false}, // 1.003x (REBLUR's diffuse change test runs in both)
 };
 
 // "No higher" within the rounding of the GPU's arithmetic: the same run reads moving_occluder
 // REBLUR_DIFFUSE at 0.9974x on lavapipe and 1.0000022x on the NVIDIA H200.
 constexpr double kDeviceRounding = 1e-5;
+// The same pair on lavapipe and on the NVIDIA H200 (RELAX_DIFFUSE at 64x64, 40 frames): moving_light
+// 0.998x and 1.002x, fast_occluder 1.004x and 0.999x.
+constexpr double kDeviceSpread = 0.005;
 
 const Shortfall* FindShortfall(const Case& c)
 {
@@ -215,8 +220,10 @@ void CheckLightingChange(const Case& c, bool halved = false)
     CHECK(lagWith <= lagWithout);
     if (halved && !(shortfall && shortfall->trailingNotHalved))
         CHECK(2 * lagWith <= lagWithout);
-    if (shortfall) // a pinned pair that meets the bar again must leave the table
-        CHECK_FALSE((ratio <= 1.0 + kDeviceRounding && (!halved || 2 * lagWith <= lagWithout)));
+    // A pinned pair that meets the bar again must leave the table; pairs within kDeviceSpread of the
+    // bar may read either side of it on different devices.
+    if (shortfall)
+        CHECK_FALSE((ratio <= 1.0 - kDeviceSpread && (!halved || 2 * lagWith <= lagWithout)));
 }
 
 } // namespace

@@ -144,6 +144,15 @@ void main()
         // standard deviations of the fast history's 3x3 mean (plus 2%), shifted by the excess, which
         // keeps the slow history's detail; the excess shortens the history as far as the fast one,
         // so that the detail of the old lighting goes too.
+        // Not where a confidence input cut the history to its floor (a debt, and no more than
+        // RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY + 1 frames): the temporal accumulation's mean clamp has
+        // already moved both histories to this frame's lighting there, and what is left between their
+        // means is noise of the new lighting, whose skewed samples the thresholded shift turns into
+        // bias (light_switch 128x128 with confidence: +1.3% of the image mean on the frame the lamp
+        // comes back, 0.2% without this shift; Shaders/Confidence/README.md).
+        bool isCut = debt > 0.0 && historyLength <= RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY + 1.0 &&
+                     !_NRD_LightingChange_IsMoving(_NRD_LightingChange_UnpackRecord(packedLength.y));
+        if (!isCut)
         {
             float lFast = _NRD_Luminance(mean), lSlow = _NRD_Luminance(meanSlow);
             float threshold = RELAX_MEAN_CLAMP_SIGMA * sqrt(fastNoise / count) + 0.01 * max(lFast, lSlow) + 1e-6;

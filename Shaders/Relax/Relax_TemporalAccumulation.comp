@@ -73,12 +73,7 @@
 // mesh_thin 0.0804 -> 0.0650; a still camera is not affected).
 #define RELAX_MOTION_SHORTENING 20.0
 
-// Diffuse with a confidence input: a cut history keeps at least this many frames (specular, and
-// REBLUR: NRD_CONFIDENCE_MIN_HISTORY, 4). The mean clamp moves them to this frame's lighting; with 4
-// each new sample weighs a fifth where the shadow of fast_occluder's box sweeps the floor without
-// motion vectors (relMSE with / without confidence, lavapipe 128x128: fast_occluder 1.0043x ->
-// 0.990x, mesh_thin 1.0004x -> 0.9995x; Shaders/Confidence/README.md).
-#define RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY 6.0
+// RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY: Relax_Common.glsl.
 
 // Diffuse change test (below): lighting that moves over a still surface without motion vectors, in
 // stripes narrower than any clamping box (venetian_blinds: lines of sunlight one pixel wide crossing
