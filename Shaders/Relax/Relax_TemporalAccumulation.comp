@@ -64,6 +64,10 @@
 // sky's ground and on thin features at 64x64: lavapipe, sky relMSE 0.00052 -> 0.00071).
 #define RELAX_SAMPLE_TEST_SIGMA 2.0
 #define RELAX_SAMPLE_TEST_FLOOR 0.1
+// With a confidence input, a sample test's shortening stops at the frames the confidence kept unless
+// the sample departs from the fast history by more than this many times the test's threshold (a
+// shadow edge passing over the pixel: followed at once).
+#define RELAX_SAMPLE_TEST_DECISIVE 3.0
 
 // Under motion the slow history is kept to gMaxAccumulatedFrameNum / (1 + this * motion in pixels)
 // frames, no fewer than the fast history's. Each frame of motion resamples the history, and what it
@@ -523,8 +527,10 @@ void main()
                 // Where the confidence cut the history, not below the frames it kept (the mean clamp
                 // has moved them to this frame's lighting; a second cut to 1 frame only adds noise:
                 // 64x64 relMSE with / without confidence, moving_light 1.008x -> 0.976x,
-                // mesh_character 1.013x -> 0.996x, fast_occluder 1.011x -> 1.007x).
-                if (confidence < 1.0)
+                // mesh_character 1.013x -> 0.996x, fast_occluder 1.011x -> 1.007x), unless the sample
+                // departs decisively (RELAX_SAMPLE_TEST_DECISIVE: moving_occluder 1.045x -> 1.003x,
+                // moving_light 0.998x -> 1.004x; Shaders/Confidence/README.md).
+                if (confidence < 1.0 && abs(d) < RELAX_SAMPLE_TEST_DECISIVE * threshold)
                     shortened = max(shortened, min(prevLength, NRD_CONFIDENCE_MIN_HISTORY));
 #endif
                 prevLength = min(prevLength, shortened);
