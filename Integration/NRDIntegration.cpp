@@ -411,8 +411,12 @@ VkResult Integration::PrepareSlot(FrameSlot& slot, const DispatchDesc* dispatche
 
     if (constantsSize > slot.constantsCapacity)
     {
+        // Forget the old ring first: if the new one cannot be created, a later call that fits the
+        // old size must create it again rather than write through the freed mapping.
         m_Device->DestroyBuffer(slot.constants);
         slot.constants = nullptr;
+        slot.constantsData = nullptr;
+        slot.constantsCapacity = 0;
         rhi::BufferDesc bufferDesc = {};
         bufferDesc.size = constantsSize;
         bufferDesc.usage = rhi::BUFFER_USAGE_UNIFORM;
@@ -430,6 +434,7 @@ VkResult Integration::PrepareSlot(FrameSlot& slot, const DispatchDesc* dispatche
     {
         m_Device->DestroyQueryPool(slot.queries);
         slot.queries = nullptr;
+        slot.queriesCapacity = 0;
         rhi::Result result = m_Device->CreateQueryPool(queriesNum, slot.queries);
         if (result != rhi::Result::SUCCESS)
             return ToVk(result);
