@@ -137,6 +137,11 @@
 // Least pixels of the 3x3 around a shadowed sample, on its surface in the previous frame, that the test
 // of isExactShadow compares (a thin shadow cast by an object next to it has neighbours on that object).
 #define TS_EXACT_PAIRS 5.0
+// Under motion, an edge pixel whose 3x3 samples did not change and whose 4x4 footprint changed at most
+// this many times is output as sampled (see isExactMoving). Allowing one change in the 3x3, or 4 in
+// the 4x4, helped at 64x64 but lost up to 11% of the relMSE ratio at 960x540, where penumbrae are
+// several pixels wide and their samples change less often than that over bright or dark parts.
+#define TS_EXACT_MOVING_FLIPS 2.0
 // Under motion, a sample whose blended result and temporal mean are both within TS_SETTLED_MOVING of
 // it, over at least TS_SETTLED_MOVING_SAMPLES samples, is output as it is (see isSettledMoving).
 #define TS_SETTLED_MOVING 0.02
@@ -762,6 +767,15 @@ void main()
         bool isExactShadow = !isDisoccluded && !isMoving && sample0 == 0.0 && nearPairs >= TS_EXACT_PAIRS && nearFlips == 0.0 &&
                              flips <= 1.0 && nearLit >= 1.0 && shadowedNeighbors >= 1 && shadowedNeighbors <= TS_THIN_SHADOW_NEIGHBORS &&
                              samples < TS_SHARP_SAMPLES;
+        // TS_EXACT_MOVING_FLIPS: under motion, the same test on an edge pixel of either value (a pixel with a
+        // neighbour of each value): its 3x3 samples are this frame what they were the last at the same
+        // offsets from the nearest history texel, with at most TS_EXACT_MOVING_FLIPS changes in the whole
+        // 4x4 footprint. Camera motion moves a hard shadow's edge over the pixels; the resampled history
+        // greys the pixels on both sides of it (and small shadows, a few pixels across, that the 9x9
+        // test takes for noise), where the 1-spp sample is exact.
+        bool isExactMoving = isMoving && !isDisoccluded && isCentreUnchanged && nearPairs >= TS_EXACT_PAIRS && nearFlips == 0.0 &&
+                             flips <= TS_EXACT_MOVING_FLIPS && shadowedNeighbors >= 1 &&
+                             (sample0 == 0.0 ? nearLit >= 1.0 : bitCount(near & NEAR_3X3) >= 2);
         // A shadow that moved without motion vectors over a still surface (a turning sun, an object
         // passing over a still floor, the stripes of a blind): the 17x17 local mean barely changes
         // (the clamp does not start), but several texels whose samples were equal on each of their
@@ -881,7 +895,7 @@ void main()
             temporalMean = sample0;
             samples = 1.0;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
