@@ -137,10 +137,11 @@
 // Least pixels of the 3x3 around a shadowed sample, on its surface in the previous frame, that the test
 // of isExactShadow compares (a thin shadow cast by an object next to it has neighbours on that object).
 #define TS_EXACT_PAIRS 5.0
-// Under motion, an edge pixel whose 3x3 samples did not change and whose 4x4 footprint changed at most
-// this many times is output as sampled (see isExactMoving). Allowing one change in the 3x3, or 4 in
-// the 4x4, helped at 64x64 but lost up to 11% of the relMSE ratio at 960x540, where penumbrae are
-// several pixels wide and their samples change less often than that over bright or dark parts.
+// Under motion, an edge pixel whose 3x3 samples did not change (or once, in a 5x5 window without
+// isolated pixels) and whose 4x4 footprint changed at most this many times is output as sampled (see
+// isExactMoving). One change in the 3x3 anywhere, or 4 in the 4x4, helped at 64x64 but lost up to 11%
+// of the relMSE ratio at 960x540, where penumbrae are several pixels wide and their samples change
+// less often than that over their bright or dark parts.
 #define TS_EXACT_MOVING_FLIPS 2.0
 // Under motion, a sample whose blended result and temporal mean are both within TS_SETTLED_MOVING of
 // it, over at least TS_SETTLED_MOVING_SAMPLES samples, is output as it is (see isSettledMoving).
@@ -769,11 +770,13 @@ void main()
                              samples < TS_SHARP_SAMPLES;
         // TS_EXACT_MOVING_FLIPS: under motion, the same test on an edge pixel of either value (a pixel with a
         // neighbour of each value): its 3x3 samples are this frame what they were the last at the same
-        // offsets from the nearest history texel, with at most TS_EXACT_MOVING_FLIPS changes in the whole
-        // 4x4 footprint. Camera motion moves a hard shadow's edge over the pixels; the resampled history
+        // offsets from the nearest history texel (one change allowed where the 5x5 window has no isolated
+        // pixel, see IsolatedPixels), with at most TS_EXACT_MOVING_FLIPS changes in the whole 4x4
+        // footprint. Camera motion moves a hard shadow's edge over the pixels; the resampled history
         // greys the pixels on both sides of it (and small shadows, a few pixels across, that the 9x9
         // test takes for noise), where the 1-spp sample is exact.
-        bool isExactMoving = isMoving && !isDisoccluded && isCentreUnchanged && nearPairs >= TS_EXACT_PAIRS && nearFlips == 0.0 &&
+        bool isExactMoving = isMoving && !isDisoccluded && isCentreUnchanged && nearPairs >= TS_EXACT_PAIRS &&
+                             (nearFlips == 0.0 || (nearFlips <= 1.0 && IsolatedPixels(near, nearInImage) == 0u)) &&
                              flips <= TS_EXACT_MOVING_FLIPS && shadowedNeighbors >= 1 &&
                              (sample0 == 0.0 ? nearLit >= 1.0 : bitCount(near & NEAR_3X3) >= 2);
         // A shadow that moved without motion vectors over a still surface (a turning sun, an object
