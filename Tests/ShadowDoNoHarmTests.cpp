@@ -61,7 +61,6 @@ const Shortfall kShortfalls[] = {
     {"fast_orbit", "SIGMA_SHADOW", 256, 1.39, 1.00}, // ratio 1.548 (oracle 3.67), FLIP 0.0052 -> 0.0050 (lavapipe)
     {"mesh_thin", "SIGMA_SHADOW", 256, 1.03, 1.11}, // ratio 1.150 (oracle 0.87), FLIP 0.0153 -> 0.0153 (lavapipe)
     {"venetian_blinds", "SIGMA_SHADOW", 256, 1.01, 1.22}, // ratio 1.127 (oracle 1.29), FLIP 0.0214 -> 0.0236 (lavapipe)
-    {"mesh_engine", "TILED_SHADOW", 256, 1.20, 1.11}, // ratio 1.339 (oracle 2.58), FLIP 1.0022x the input's (H200)
     {"mesh_thin", "TILED_SHADOW", 256, 0.71, 1.48}, // ratio 0.795 (oracle 0.87), FLIP 0.0153 -> 0.0205 (H200)
     {"venetian_blinds", "TILED_SHADOW", 256, 0.76, 1.99}, // ratio 0.847 (oracle 1.29), FLIP 0.0213 -> 0.0384 (H200)
 };

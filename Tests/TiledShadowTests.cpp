@@ -393,7 +393,7 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
                     double ndcX = (x + 0.5) / w * 2.0 - 1.0, ndcY = (y + 0.5) / h * 2.0 - 1.0;
                     double planeCenter = nx[c] * ndcX + ny[c] * ndcY + nz[c];
                     double planeScale = log2e / planeDistanceSensitivity / z[c];
-                    double sum = sc, sumVariance = vc, weightSum = 1.0;
+                    double sum = 0.0, sumVariance = vc, weightSum = 1.0; // sum: of the differences from the centre.
                     for (int dy = -1; dy <= 1; dy++)
                         for (int dx = -1; dx <= 1; dx++)
                         {
@@ -410,11 +410,11 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
                             double exponent = (dx != 0 ? std::log2(2.0 / 3.0) : 0.0) + (dy != 0 ? std::log2(2.0 / 3.0) : 0.0) -
                                               std::fabs(s[i * 2] - sc) * shadowScale * darkness - std::fabs(plane) * planeScale;
                             double weight = std::exp2(exponent) * std::pow(NoN, double(normalPower));
-                            sum += weight * s[i * 2];
+                            sum += weight * (s[i * 2] - sc);
                             sumVariance += weight * weight * s[i * 2 + 1];
                             weightSum += weight;
                         }
-                    result = sum / weightSum;
+                    result = std::min(std::max(sc + sum / weightSum, 0.0), 1.0);
                     resultVariance = sumVariance / (weightSum * weightSum);
                 }
                 if (isLast)
