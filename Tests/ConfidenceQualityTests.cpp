@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -168,12 +169,18 @@ struct Case
 // RELAX_SPECULAR 16 -> 0, RELAX_DIFFUSE 2 -> 1) and toggling_light for all but RELAX_SPECULAR
 // (4 -> 0 or 1 frames; RELAX_SPECULAR's frames kept are not moved to the new lighting where the
 // light toggles every 4 frames: 4 -> 4, Shaders/Confidence/README.md).
-// Pairs that miss issue 16's bar since RELAX's diffuse change test (fbfba8c): the test keeps
-// RELAX_DIFFUSE's histories at 3 frames where the lighting keeps changing, and confidence shortens
-// them further, so RELAX_DIFFUSE's relMSE with confidence rises by up to 0.5% (lavapipe, 40 frames;
-// Shaders/Confidence/README.md, "RELAX_DIFFUSE after RELAX's diffuse change test"). Each is pinned at its
-// measured ratio plus a small margin so that a further loss fails; remove a line when the pair
-// meets the bar again (a line met by more than kDeviceSpread fails too).
+// The ratio of one run (one noise seed) spreads by more than the excesses it decides: over seeds 1
+// to 6 (64x64, 40 frames) RELAX_DIFFUSE on moving_light reads 0.969x to 1.017x with / without
+// confidence, REBLUR_DIFFUSE on toggling_light 0.958x to 1.050x (standard deviations 1.7% and 3.2%).
+// In the slow table ([confidence_all]) a pair whose ratio at the scene's seed lies within kSeedSpread
+// of 1 is decided by the relMSE summed over kSeeds (the runs with and without confidence share each
+// seed): the mean excess, not one draw of it (Shaders/Confidence/README.md, "One seed against
+// several"). The CI cases read the scene's seed only (their trailing light is what they assert).
+// Pairs that miss issue 16's bar over kSeeds (lavapipe, 64x64, 40 frames): RELAX_DIFFUSE on mesh_thin
+// (RELAX's diffuse change test keeps its histories at 3 frames where the spider's thin shadows move,
+// and the confidence shortens them further; 0.9996x on the NVIDIA H200). Each is pinned at its
+// measured ratio plus a small margin so that a further loss fails; remove a line when the pair meets
+// the bar again (a line met by more than kDeviceSpread fails too).
 struct Shortfall
 {
     const char* scene;
@@ -183,13 +190,12 @@ struct Shortfall
     bool trailingNotHalved;
 };
 const Shortfall kShortfalls[] = {
-    {"moving_light", "RELAX_DIFFUSE", 64, 1.012, false},    // 1.004x
-    {"fast_occluder", "RELAX_DIFFUSE", 64, 1.010, false},   // 1.001x
-    {"moving_occluder", "RELAX_DIFFUSE", 64, 1.010, false}, // 1.003x
-    {"venetian_blinds", "RELAX_DIFFUSE", 64, 1.010, false}, // 1.002x
-    {"mesh_thin", "RELAX_DIFFUSE", 64, 1.010, false},       // 1.003x
-    {"venetian_blinds", "REBLUR_DIFFUSE", 64, 1.010, false}, // 1.003x (REBLUR's diffuse change test runs in both)
+    {"mesh_thin", "RELAX_DIFFUSE", 64, 1.006, false}, // 1.0016x over seeds 1-6
 };
+
+// Seeds of the decision over several runs, and how far from 1 a ratio at the scene's seed is left to it.
+constexpr uint32_t kSeeds[] = {1, 2, 3, 4, 5, 6};
+constexpr double kSeedSpread = 0.05;
 
 // "No higher" within the rounding of the GPU's arithmetic: the same run reads moving_occluder
 // REBLUR_DIFFUSE at 0.9974x on lavapipe and 1.0000022x on the NVIDIA H200.
@@ -206,7 +212,23 @@ const Shortfall* FindShortfall(const Case& c)
     return nullptr;
 }
 
-void CheckLightingChange(const Case& c, bool halved = false)
+// relMSE with / without confidence summed over kSeeds.
+double SeedMeanRatio(const Case& c)
+{
+    double without = 0.0, with = 0.0;
+    for (uint32_t seed : kSeeds)
+    {
+        nrdlab::RunOptions o = SmallRun(c.scene, c.method, c.frames, c.size);
+        o.keepImages = false;
+        o.seed = seed;
+        without += Run(o).mean.relmseDenoised;
+        o.confidence = true;
+        with += Run(o).mean.relmseDenoised;
+    }
+    return with / without;
+}
+
+void CheckLightingChange(const Case& c, bool halved = false, bool overSeeds = false)
 {
     Pair p = RunBoth(c.scene, c.method, c.frames, c.size);
     const int lagWithout = MeanLag(p.without), lagWith = MeanLag(p.with);
@@ -214,9 +236,16 @@ void CheckLightingChange(const Case& c, bool halved = false)
                  << " (" << p.with.mean.relmseDenoised / p.without.mean.relmseDenoised << "x), trailing light " << lagWithout
                  << " -> " << lagWith << " frames, low-pass lag " << p.without.lagLowpassFrames << " -> "
                  << p.with.lagLowpassFrames);
-    const Shortfall* shortfall = FindShortfall(c);
-    const double ratio = p.with.mean.relmseDenoised / p.without.mean.relmseDenoised;
-    CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0 + kDeviceRounding));
+    const Shortfall* shortfall = overSeeds ? FindShortfall(c) : nullptr; // The pins are over kSeeds.
+    double ratio = p.with.mean.relmseDenoised / p.without.mean.relmseDenoised;
+    if (overSeeds && std::abs(ratio - 1.0) < kSeedSpread)
+    {
+        ratio = SeedMeanRatio(c);
+        INFO("over seeds 1 to " << std::size(kSeeds) << ": " << ratio << "x");
+        CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0 + kDeviceRounding));
+    }
+    else
+        CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0 + kDeviceRounding));
     CHECK(lagWith <= lagWithout);
     if (halved && !(shortfall && shortfall->trailingNotHalved))
         CHECK(2 * lagWith <= lagWithout);
@@ -324,7 +353,7 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE on every lighting scene and consumer
         for (const char* method : consumers)
         {
             const std::string sc = scene, m = method;
-            CheckLightingChange({scene, method, 40}, sc == "light_switch" || (sc == "toggling_light" && m != "RELAX_SPECULAR"));
+            CheckLightingChange({scene, method, 40}, sc == "light_switch" || (sc == "toggling_light" && m != "RELAX_SPECULAR"), true);
         }
     for (const char* scene : {"static", "camera_translation", "mesh_engine"})
         for (const char* method : consumers)

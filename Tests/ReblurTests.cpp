@@ -290,7 +290,8 @@ TEST_CASE("REBLUR reference accumulation equals a CPU running mean with fp16 his
 TEST_CASE("REBLUR multiplies its history length by the confidence without rounding it down", "[vulkan][reblur]")
 {
     // Reference accumulation with confidence 0.9 everywhere: the history length L read back is
-    // multiplied by 0.9 (but kept where 4 frames or shorter, and at 4 frames or more) and the new
+    // multiplied by 0.9 (but kept where 6 frames or shorter, and at 6 frames or more:
+    // REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY) and the new
     // sample weighs 1 / (0.9 L + 1), so L grows towards
     // 1 / (1 - 0.9) = 10 frames (fp16 storage). Rounded down, 0.9 L + 1 would stay at 1 frame;
     // rounded to the nearest frame, at 6.4.
@@ -314,8 +315,8 @@ TEST_CASE("REBLUR multiplies its history length by the confidence without roundi
             for (uint32_t i = 0; i < n; i++)
                 in[i * 4 + 3] *= 0.25f;
             actual = rig.Frame(frame, in);
-            // Shaders/Include/Reprojection.glsl: the confidence keeps at least 4 frames.
-            float length = std::max(storedLength * 0.9f, std::min(storedLength, 4.0f)) + 1.0f;
+            // Shaders/Reblur/Reblur_Common.glsl: diffuse keeps at least 6 frames of a cut history.
+            float length = std::max(storedLength * 0.9f, std::min(storedLength, 6.0f)) + 1.0f;
             storedLength = test::Quantize(rhi::Format::R16_SFLOAT, {length})[0];
             float a = 1.0f / length;
             for (size_t i = 0; i < expected.size(); i++)

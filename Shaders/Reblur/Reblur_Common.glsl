@@ -99,6 +99,14 @@
 #define REBLUR_LUMA_ISOLATED_LOW 0.2
 #define REBLUR_LUMA_ISOLATED_HIGH 0.5
 
+// Diffuse with a confidence input: a cut history keeps at least this many frames (specular restarts,
+// see Reblur_TemporalAccumulation.comp). Anti-lag moves them to this frame's lighting; with 4 (the
+// consumers' NRD_CONFIDENCE_MIN_HISTORY) the noise of the frames after a lamp comes on cost more than
+// the trailing light removed (toggling_light 64x64, relMSE with / without confidence summed over
+// seeds 1-6: 1.015x with 4, 0.988x with 6; light_switch 0.971x -> 0.952x; NVIDIA H200,
+// Shaders/Confidence/README.md, "One seed against several").
+#define REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY 6.0
+
 // Confidence debt (the frames of history a confidence input took, up to gHistoryFixFrameNum), stored
 // in R8 UNORM as debt / REBLUR_MAX_HISTORY_FIX_FRAME_NUM (NRDSettings.h: 3).
 #define REBLUR_DEBT_SCALE 3.0

@@ -6,7 +6,8 @@
 // luminance leaves the fast one by more than gAntilagSigmaScale of the fast history's expected
 // noise, the history length is cut towards the fast length and the slow value is moved onto the
 // fast one (anti-lag). Confidence (optional) shortens the history where < 1, to no less than
-// NRD_CONFIDENCE_MIN_HISTORY frames (what it takes is kept as a debt that narrows the history fix). Specular blends the
+// REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY frames (diffuse) or to its confidence's share (specular;
+// what it takes is kept as a debt that narrows the history fix). Specular blends the
 // surface-motion and virtual-motion histories (_Reblur_Reproject). Checkerboard: the pixels not
 // traced this frame take history only (or, without history, their traced horizontal neighbours).
 #version 450
@@ -132,7 +133,7 @@ void main()
     // relMSE 1.57x -> 1.27x the run without confidence); a dense 5x5 average (stride 1) still helps
     // (skipping the fix: 2.25x). Carried along with the history, lost with it on disocclusion; 0
     // without a confidence input. Diffuse radiance keeps none: its debt texel holds the lighting change
-    // record (below), and its cut keeps at least NRD_CONFIDENCE_MIN_HISTORY frames, more than the
+    // record (below), and its cut keeps at least REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY frames, more than the
     // history fix runs for, so a debt could only widen the fix's stride after a later disocclusion.
 #if !REBLUR_SPECULAR && !REBLUR_OCCLUSION
     debt = 0.0;
@@ -156,7 +157,7 @@ void main()
         // against the run without confidence, 4 kept -> restarted: toggling_light 0.90x -> 0.83x).
         float kept = historyLength * confidence;
 #else
-        float kept = _NRD_ConfidenceHistoryLength(historyLength, confidence, NRD_CONFIDENCE_MIN_HISTORY);
+        float kept = _NRD_ConfidenceHistoryLength(historyLength, confidence, REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY);
 #endif
         debt = min(debt + historyLength - kept, gHistoryFixFrameNum);
         historyLength = kept;
@@ -348,7 +349,7 @@ void main()
             // mean). Fewer neighbours (checkerboard: the 4 diagonal ones; edges) give a noisier
             // mean and a higher limit (checkerboard static 128x128: +4% relMSE with the limit of 8).
             // The confidence does not narrow this test: it shortened the history already, to no
-            // less than NRD_CONFIDENCE_MIN_HISTORY frames, which a narrower test cut further
+            // less than REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY frames, which a narrower test cut further
             // (toggling_light 64x64 relMSE with confidence 1.02x the run without, 0.98x now).
             float chiLimit = REBLUR_PIXEL_ANTILAG_CHI * (1.0 + 4.0 / max(chiCount, 1.0)) / 1.5;
             float pixelExcess = chiCount >= 2.0 && chiSelf >= REBLUR_PIXEL_ANTILAG_SELF ? chi / (chiCount * chiLimit) - 1.0 : 0.0;

@@ -6,8 +6,8 @@
 
 #define RELAX_TILE_SIZE 8
 
-// Diffuse with a confidence input: a cut history keeps at least this many frames (specular, and
-// REBLUR: NRD_CONFIDENCE_MIN_HISTORY, 4). The mean clamp moves them to this frame's lighting; with 4
+// Diffuse with a confidence input: a cut history keeps at least this many frames (specular:
+// NRD_CONFIDENCE_MIN_HISTORY, 4; REBLUR diffuse: REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY, 6). The mean clamp moves them to this frame's lighting; with 4
 // each new sample weighs a fifth where the shadow of fast_occluder's box sweeps the floor without
 // motion vectors (relMSE with / without confidence, lavapipe 128x128: fast_occluder 1.0043x ->
 // 0.990x, mesh_thin 1.0004x -> 0.9995x; Shaders/Confidence/README.md).
