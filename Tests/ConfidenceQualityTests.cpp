@@ -170,8 +170,9 @@ struct Case
 // (4 -> 0 or 1 frames; RELAX_SPECULAR's frames kept are not moved to the new lighting where the
 // light toggles every 4 frames: 4 -> 4, Shaders/Confidence/README.md).
 // The ratio of one run (one noise seed) spreads by more than the excesses it decides: over seeds 1
-// to 6 (64x64, 40 frames) RELAX_DIFFUSE on moving_light reads 0.969x to 1.017x with / without
-// confidence, REBLUR_DIFFUSE on toggling_light 0.958x to 1.050x (standard deviations 1.7% and 3.2%).
+// to 6 (lavapipe, 64x64, 40 frames) RELAX_DIFFUSE on moving_light reads 0.976x to 1.020x with /
+// without confidence, REBLUR_DIFFUSE on toggling_light (4 frames kept) 0.961x to 1.050x (standard
+// deviations 1.5% and 3.2%).
 // In the slow table ([confidence_all]) a pair whose ratio at the scene's seed lies within kSeedSpread
 // of 1 is decided by the relMSE summed over kSeeds (the runs with and without confidence share each
 // seed): the mean excess, not one draw of it (Shaders/Confidence/README.md, "One seed against
