@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -241,14 +240,11 @@ void CheckLightingChange(const Case& c, bool halved = false, bool overSeeds = fa
                  << p.with.lagLowpassFrames);
     const Shortfall* shortfall = overSeeds ? FindShortfall(c) : nullptr; // The pins are over kSeeds.
     double ratio = p.with.mean.relmseDenoised / p.without.mean.relmseDenoised;
-    if (overSeeds && std::abs(ratio - 1.0) < kSeedSpread)
-    {
+    const bool isOverSeeds = overSeeds && std::abs(ratio - 1.0) < kSeedSpread;
+    if (isOverSeeds)
         ratio = SeedMeanRatio(c);
-        INFO("over seeds 1 to " << std::size(kSeeds) << ": " << ratio << "x");
-        CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0 + kDeviceRounding));
-    }
-    else
-        CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0 + kDeviceRounding));
+    INFO((isOverSeeds ? "over seeds 1 to 6: " : "at the scene's seed: ") << ratio << "x");
+    CHECK(ratio <= (shortfall ? shortfall->relmseRatio : 1.0 + kDeviceRounding));
     CHECK(lagWith <= lagWithout);
     if (halved && !(shortfall && shortfall->trailingNotHalved))
         CHECK(2 * lagWith <= lagWithout);
