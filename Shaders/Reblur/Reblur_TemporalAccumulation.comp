@@ -400,20 +400,24 @@ void main()
         {
             float keep = 1.0 / (1.0 + excess);
 #if REBLUR_SPECULAR
-            historyLength = CutHistory(historyLength, keep);
-            historyLength = min(historyLength, max(gMaxFastAccumulatedFrameNum, 1.0));
-            slow = _Reblur_WithLuma(slow, mix(fastNow, slowLuma, keep));
+            bool isCut = true;
+            float cutKeep = keep;
 #else
-            if (excessWide > 0.0)
+            bool isCut = excessWide > 0.0;
+            float cutKeep = 1.0 / (1.0 + max(excessWide, 0.0));
+#endif
+            if (isCut)
             {
-                historyLength = CutHistory(historyLength, 1.0 / (1.0 + excessWide));
+                historyLength = CutHistory(historyLength, cutKeep);
                 historyLength = min(historyLength, max(gMaxFastAccumulatedFrameNum, 1.0));
             }
+#if REBLUR_SPECULAR
+            slow = _Reblur_WithLuma(slow, mix(fastNow, slowLuma, keep));
+#else
             // The neighbourhood's change applies to the pixel's own history as a ratio (lighting
             // scales the radiance; the pixel keeps its detail).
             float target = reference > 1e-4 ? slowLuma * fastNow / reference : slowLuma + fastNow - reference;
-            float held = excessWide > 0.0 ? keep * keep : keep;
-            slow = _Reblur_WithLuma(slow, max(mix(target, slowLuma, held), 0.0));
+            slow = _Reblur_WithLuma(slow, max(mix(target, slowLuma, isCut ? keep * keep : keep), 0.0));
 #endif
             // The stabilized luminance follows the same correction: reprojected as it was, it kept
             // the old lighting for as long as the stabilization's own clamp took to let go of it
