@@ -177,8 +177,9 @@ struct Case
 // seed): the mean excess, not one draw of it (Shaders/Confidence/README.md, "One seed against
 // several"). The CI cases read the scene's seed only (their trailing light is what they assert).
 // Pairs that miss issue 16's bar over kSeeds (lavapipe, 64x64, 40 frames): RELAX_DIFFUSE on mesh_thin
-// (RELAX's diffuse change test keeps its histories at 3 frames where the spider's thin shadows move,
-// and the confidence shortens them further; 0.9996x on the NVIDIA H200); at 128x128 ([confidence_128])
+// (RELAX's diffuse change test keeps its histories at 3 frames where the spider's thin shadows move;
+// the narrowed mean clamp and the sample test's floor cost 0.1%; 0.9996x on the NVIDIA H200); at
+// 128x128 ([confidence_128])
 // REBLUR_DIFFUSE on venetian_blinds (1.006x; 1.030x while the confidence narrowed its anti-lag's cut
 // as well as its correction, Shaders/Confidence/README.md). Each is pinned at its
 // measured ratio plus a small margin so that a further loss fails; remove a line when the pair meets
