@@ -107,6 +107,16 @@
 // Shaders/Confidence/README.md, "One seed against several").
 #define REBLUR_DIFFUSE_CONFIDENCE_MIN_HISTORY 6.0
 
+// Diffuse with a confidence input: the anti-lag's correction narrows its tolerance by
+// min(confidence / this, 1) (at least 0.05). A confidence above it leaves the tolerance as without
+// confidence: slight dips, which moving shadow edges cause frame after frame over whole regions,
+// moved the pixels beside the edges by their 5x5 neighbourhood's change (venetian_blinds, relMSE with
+// / without confidence summed over seeds, NVIDIA H200: 1.005x at 128x128 and 1.017x at 256x256 with
+// the confidence itself, 0.998x and 0.997x with 0.7); a lamp switched on or off still moves its
+// pixels at once (toggling_light 64x64: trailing light 4 -> 2 frames, 4 -> 1 with 0.75, 4 -> 0 with
+// 1; Shaders/Confidence/README.md).
+#define REBLUR_DIFFUSE_CONFIDENCE_NARROWING_KNEE 0.7
+
 // Confidence debt (the frames of history a confidence input took, up to gHistoryFixFrameNum), stored
 // in R8 UNORM as debt / REBLUR_MAX_HISTORY_FIX_FRAME_NUM (NRDSettings.h: 3).
 #define REBLUR_DEBT_SCALE 3.0

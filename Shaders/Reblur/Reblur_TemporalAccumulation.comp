@@ -385,16 +385,18 @@ void main()
 #if REBLUR_SPECULAR
         float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise) - 1.0;
 #else
-        // Diffuse: a confidence below 1 narrows the tolerance of the correction below, not of the
-        // history's cut: the cut follows the tolerance without confidence (excessWide). Where only
-        // the narrowed tolerance is exceeded the history keeps its length and moves towards the
-        // neighbourhood's change with the weight keep (keep^2 where both are): the trailing light
-        // still goes at once (light_switch 5 -> 0 frames, toggling_light 4 -> 0 at 64x64), and the
-        // blinds' moving stripes, whose confidence stays a little below 1 frame after frame, no longer
-        // lose their histories (venetian_blinds 128x128, relMSE with / without confidence summed over
-        // seeds 1-6, NVIDIA H200: 1.029x with the narrowed cut, 1.005x; Shaders/Confidence/README.md).
+        // Diffuse: a confidence below REBLUR_DIFFUSE_CONFIDENCE_NARROWING_KNEE narrows the tolerance of
+        // the correction below, not of the history's cut: the cut follows the tolerance without
+        // confidence (excessWide). Where only the narrowed tolerance is exceeded the history keeps its
+        // length and moves towards the neighbourhood's change with the weight keep (keep^2 where both
+        // are): the trailing light still goes (light_switch 5 -> 0 frames, toggling_light 4 -> 2 at
+        // 64x64), and the blinds' moving stripes, whose confidence stays a little below 1 frame after
+        // frame, no longer lose their histories (venetian_blinds 128x128, relMSE with / without
+        // confidence summed over seeds 1-6, NVIDIA H200: 1.029x with the narrowed cut, 0.998x now;
+        // Shaders/Confidence/README.md).
+        float narrowing = max(min(confidence / REBLUR_DIFFUSE_CONFIDENCE_NARROWING_KNEE, 1.0), 0.05);
         float excessWide = abs(reference - fastNow) / (gAntilagSigmaScale * noise) - 1.0;
-        float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise * max(confidence, 0.05)) - 1.0;
+        float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise * narrowing) - 1.0;
 #endif
         if (excess > 0.0)
         {
