@@ -178,7 +178,8 @@ struct Case
 // several"). The CI cases read the scene's seed only (their trailing light is what they assert).
 // Pairs that miss issue 16's bar over kSeeds (lavapipe, 64x64, 40 frames): RELAX_DIFFUSE on mesh_thin
 // (RELAX's diffuse change test keeps its histories at 3 frames where the spider's thin shadows move;
-// the narrowed mean clamp and the sample test's floor cost 0.1%; 0.9996x on the NVIDIA H200). It is
+// the sample test's floor where the confidence dips just below 1 costs 0.05%, and moving_light needs
+// it; 0.9998x on the NVIDIA H200; 1.0015x before RELAX_DIFFUSE_CONFIDENCE_NARROWING_KNEE). It is
 // pinned at its measured ratio plus a small margin so that a further loss fails; remove a line when
 // the pair meets the bar again (a line met by more than kDeviceSpread fails too). REBLUR_DIFFUSE on
 // venetian_blinds at 128x128 ([confidence_128]) was pinned until its anti-lag narrowed only the
@@ -192,7 +193,7 @@ struct Shortfall
     bool trailingNotHalved;
 };
 const Shortfall kShortfalls[] = {
-    {"mesh_thin", "RELAX_DIFFUSE", 64, 1.006, false}, // 1.0015x over seeds 1-6
+    {"mesh_thin", "RELAX_DIFFUSE", 64, 1.003, false}, // 1.00045x over seeds 1-6
 };
 
 // Seeds of the decision over several runs, and how far from 1 a ratio at the scene's seed is left to it.

@@ -231,4 +231,15 @@ float _NRD_ConfidenceHistoryLength(float historyLength, float confidence, float 
     return max(historyLength * confidence, min(historyLength, minFrames));
 }
 
+// The factor by which a confidence c narrows a consumer's tolerance of a change (REBLUR diffuse's
+// anti-lag correction, RELAX diffuse's mean clamp): min(c / knee, 1)^power, at least 0.05. A
+// confidence at or above 'knee' leaves the tolerance as without confidence: moving shadow edges dip
+// the confidence a little over whole regions frame after frame, and a narrowed tolerance there moves
+// still history by its neighbourhood's noise on every frame; a switched lamp's pixels fall far below
+// any knee.
+float _NRD_ConfidenceNarrowing(float confidence, float knee, float power)
+{
+    return max(pow(min(confidence / knee, 1.0), power), 0.05);
+}
+
 #endif

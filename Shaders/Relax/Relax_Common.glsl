@@ -13,6 +13,15 @@
 // 0.990x, mesh_thin 1.0004x -> 0.9995x; Shaders/Confidence/README.md).
 #define RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY 6.0
 
+// Diffuse with a confidence input: the mean clamp's distance is multiplied by (c / this)^2 where the
+// confidence c is below it (_NRD_ConfidenceNarrowing). The confidence itself (the distance times c)
+// moved the still histories under moving shadow edges, whose confidence dips a little frame after
+// frame, by their 5x5 mean's noise (venetian_blinds, relMSE with / without confidence summed over
+// seeds, NVIDIA H200: 1.0065x at 128x128 and 1.029x at 256x256 with c, 0.994x and 0.999x with this);
+// squared, a lamp's pixels are still moved at once (toggling_light 64x64: trailing light 4 -> 0
+// frames; linear with a knee of 0.7: 4 -> 4; Shaders/Confidence/README.md).
+#define RELAX_DIFFUSE_CONFIDENCE_NARROWING_KNEE 0.6
+
 // Every pass but the classification runs 8x8 groups aligned with the tiles: a group whose tile
 // holds only sky returns before any load.
 bool Relax_IsTileSkipped(texture2D tiles) { return texelFetch(tiles, ivec2(gl_WorkGroupID.xy), 0).x == 0.0; }

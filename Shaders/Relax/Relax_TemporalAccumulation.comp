@@ -354,8 +354,9 @@ void main()
     //   keeping its own detail, so that a lighting
     //   change is followed within frames; the test is on means, with a variance that does not depend
     //   on this frame's samples, so still history is moved up as often as down (no darkening). With a
-    //   confidence input the allowed distance is multiplied by the confidence (0: the means are made
-    //   equal), so the frames kept where the lighting changed take this frame's level;
+    //   confidence input the allowed distance is multiplied by _NRD_ConfidenceNarrowing (c / 0.6)^2
+    //   below RELAX_DIFFUSE_CONFIDENCE_NARROWING_KNEE (near 0: the means are made equal), so the
+    //   frames kept where a lamp changed take this frame's level;
     // - specular has no mean clamp without a confidence input: its heavy tail would spread single
     //   bright samples over the 5x5 history. With one, it is clamped as diffuse (distance times the
     //   confidence) by (1 - confidence)^2 of the excess, only where the confidence cut a history
@@ -372,7 +373,7 @@ void main()
 #elif RELAX_SPECULAR
     float clampAmount = 0.0, clampScale = 1.0;
 #elif RELAX_CONFIDENCE
-    float clampAmount = 1.0, clampScale = confidence;
+    float clampAmount = 1.0, clampScale = _NRD_ConfidenceNarrowing(confidence, RELAX_DIFFUSE_CONFIDENCE_NARROWING_KNEE, 2.0);
 #else
     float clampAmount = 1.0, clampScale = 1.0;
 #endif
