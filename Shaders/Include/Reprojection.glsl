@@ -237,9 +237,12 @@ float _NRD_ConfidenceHistoryLength(float historyLength, float confidence, float 
 // the confidence a little over whole regions frame after frame, and a narrowed tolerance there moves
 // still history by its neighbourhood's noise on every frame; a switched lamp's pixels fall far below
 // any knee.
-float _NRD_ConfidenceNarrowing(float confidence, float knee, float power)
+float _NRD_ConfidenceNarrowing(float confidence, float knee, int power)
 {
-    return max(pow(min(confidence / knee, 1.0), power), 0.05);
+    float n = min(confidence / knee, 1.0), f = n;
+    for (int i = 1; i < power; ++i)
+        f *= n;
+    return max(f, 0.05);
 }
 
 #endif

@@ -394,7 +394,7 @@ void main()
         // frame, no longer lose their histories (venetian_blinds 128x128, relMSE with / without
         // confidence summed over seeds 1-6, NVIDIA H200: 1.029x with the narrowed cut, 0.998x now;
         // Shaders/Confidence/README.md).
-        float narrowing = _NRD_ConfidenceNarrowing(confidence, REBLUR_DIFFUSE_CONFIDENCE_NARROWING_KNEE, 1.0);
+        float narrowing = _NRD_ConfidenceNarrowing(confidence, REBLUR_DIFFUSE_CONFIDENCE_NARROWING_KNEE, 1);
         float excessWide = abs(reference - fastNow) / (gAntilagSigmaScale * noise) - 1.0;
         float excess = abs(reference - fastNow) / (gAntilagSigmaScale * noise * narrowing) - 1.0;
 #endif

@@ -373,7 +373,7 @@ void main()
 #elif RELAX_SPECULAR
     float clampAmount = 0.0, clampScale = 1.0;
 #elif RELAX_CONFIDENCE
-    float clampAmount = 1.0, clampScale = _NRD_ConfidenceNarrowing(confidence, RELAX_DIFFUSE_CONFIDENCE_NARROWING_KNEE, 2.0);
+    float clampAmount = 1.0, clampScale = _NRD_ConfidenceNarrowing(confidence, RELAX_DIFFUSE_CONFIDENCE_NARROWING_KNEE, 2);
 #else
     float clampAmount = 1.0, clampScale = 1.0;
 #endif
