@@ -382,3 +382,14 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE at 128x128 where lighting changes", 
     // "One seed against several").
     CheckLightingChange({"venetian_blinds", "REBLUR_DIFFUSE", 40, 128}, false, true);
 }
+
+TEST_CASE("REBLUR and RELAX speculars with CONFIDENCE at 256x256 under moving stripes and a fast occluder", "[confidence_256]")
+{
+    // Label slow: at 256x256 a sun glint one pixel high crosses the blinds' floor; RELAX_SPECULAR's
+    // frames kept by the confidence held it where it had left (venetian_blinds 1.306x, fast_occluder
+    // 1.030x with / without confidence) until RELAX_SPECULAR_CONFIDENCE_CLAMP_KNEE
+    // (Shaders/Confidence/README.md, "The specular consumers at 256x256").
+    for (const char* scene : {"venetian_blinds", "fast_occluder"})
+        for (const char* method : {"RELAX_SPECULAR", "REBLUR_SPECULAR"})
+            CheckLightingChange({scene, method, 40, 256});
+}

@@ -79,6 +79,12 @@
 
 // RELAX_DIFFUSE_CONFIDENCE_MIN_HISTORY: Relax_Common.glsl.
 
+// Specular with a confidence input: below this confidence the slow history is kept under the top of
+// this frame's 3x3 box (below), at RELAX_FAST_CLAMP_SIGMA * (c / knee) standard deviations, no fewer
+// than RELAX_SPECULAR_CONFIDENCE_CLAMP_MIN_SIGMA.
+#define RELAX_SPECULAR_CONFIDENCE_CLAMP_KNEE 0.5
+#define RELAX_SPECULAR_CONFIDENCE_CLAMP_MIN_SIGMA 2.0
+
 // Diffuse change test (below): lighting that moves over a still surface without motion vectors, in
 // stripes narrower than any clamping box (venetian_blinds: lines of sunlight one pixel wide crossing
 // a floor, each pixel lit for a frame or two every dozen), leaves every history test but a lucky one
@@ -288,6 +294,9 @@ void main()
     // RELAX_FAST_CLAMP_SIGMA standard deviations), so that a lighting change, or absurd history left
     // by out-of-range input, is gone within a frame; its second moment is bounded by the same box. The slow history follows the fast one (history fix).
     // Diffuse gathers the box's moments in the mean clamp's 5x5 loop below (the same taps).
+#if RELAX_CONFIDENCE
+    float confidence = clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
+#endif
 #if RELAX_SPECULAR
     if (hasHistory && hasSample)
     {
@@ -310,6 +319,25 @@ void main()
                 m2 += c * c;
                 count += 1.0;
             }
+#if RELAX_CONFIDENCE
+        // Specular with a confidence input below RELAX_SPECULAR_CONFIDENCE_CLAMP_KNEE: the slow history
+        // is also kept under the same box's top, narrowed with the confidence to no less than
+        // RELAX_SPECULAR_CONFIDENCE_CLAMP_MIN_SIGMA standard deviations (RELAX_FAST_CLAMP_SIGMA *
+        // _NRD_ConfidenceNarrowing). The frames the confidence keeps (NRD_CONFIDENCE_MIN_HISTORY) hold
+        // a thin highlight that moved away as bright as it was, and the mean clamp's 5x5 taps, which
+        // hold the highlight's new place, do not move them (venetian_blinds 256x256: a sun glint one
+        // pixel high kept at 19 where the truth is 0.1). Only the top: a floor lifts the history where
+        // this frame's 3x3 holds a bright sample, and bright samples stay in it for many frames; a top
+        // tighter than 2 standard deviations darkens the frames after a lamp goes off (the 3x3 of a
+        // heavy-tailed signal is low more often than high). Shaders/Confidence/README.md.
+        if (confidence < RELAX_SPECULAR_CONFIDENCE_CLAMP_KNEE && count > 0.0)
+        {
+            float k = max(RELAX_FAST_CLAMP_SIGMA * _NRD_ConfidenceNarrowing(confidence, RELAX_SPECULAR_CONFIDENCE_CLAMP_KNEE, 1),
+                          RELAX_SPECULAR_CONFIDENCE_CLAMP_MIN_SIGMA);
+            vec3 mean = m1 / count, sigma = sqrt(max(m2 / count - mean * mean, vec3(0.0)));
+            prevSlow.rgb = min(prevSlow.rgb, mean + k * sigma);
+        }
+#endif
         prevFast = _Relax_ClampFast(prevFast, m1, m2, count);
     }
 #endif
@@ -320,7 +348,6 @@ void main()
     // history, lost with it on disocclusion; 0 without the confidence input.
     float lengthBeforeCut = prevLength;
 #if RELAX_CONFIDENCE
-    float confidence = clamp(_NRD_Sanitize(texelFetch(gIn_Confidence, pixel, 0).x, 1.0), 0.0, 1.0);
 #if RELAX_SPECULAR
     float kept = _NRD_ConfidenceHistoryLength(prevLength, confidence, NRD_CONFIDENCE_MIN_HISTORY);
 #else
