@@ -31,7 +31,8 @@
 //   virtual reprojections, n <= max / (1 + parallax in pixels * (1 - roughness)^2);
 // - optional confidence input: the history length is multiplied by it, to no less than
 //   NRD_CONFIDENCE_MIN_HISTORY frames (what it takes is kept as a debt that keeps the history fix away),
-//   and the mean clamp moves the frames kept to this frame's lighting;
+//   and the mean clamp moves the frames kept to this frame's lighting; specular below a confidence of
+//   RELAX_SPECULAR_CONFIDENCE_CLAMP_KNEE: the slow history is kept under the top of this frame's 3x3 box;
 // - checkerboard: pixels not traced this frame take the mean of their traced 4-neighbours on the
 //   same surface when they have no history, else keep the history unchanged.
 #include "Bindings.glsl"
