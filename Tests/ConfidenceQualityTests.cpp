@@ -164,8 +164,9 @@ struct Case
 
 // Issue 16's bar where the lighting changes, with CONFIDENCE's default settings: relMSE no higher
 // with confidence than without and the trailing light (MeanLag) no longer; halved where 'halved' is
-// set: light_switch for the four consumers (64x64, 40 frames: REBLUR_DIFFUSE 6 -> 0 frames, REBLUR_SPECULAR and
-// RELAX_SPECULAR 16 -> 0, RELAX_DIFFUSE 2 -> 1) and toggling_light for all but RELAX_SPECULAR
+// set: light_switch for the four consumers (64x64, 40 frames: REBLUR_DIFFUSE 6 -> 0 frames, REBLUR_SPECULAR
+// 16 -> 0, RELAX_SPECULAR 16 -> 2 (RELAX_SPECULAR_CONFIDENCE_CLAMP_KNEE's top darkens the frames after the
+// lamp goes off a little), RELAX_DIFFUSE 2 -> 1) and toggling_light for all but RELAX_SPECULAR
 // (4 -> 0 to 2 frames, REBLUR_DIFFUSE 2 below REBLUR_DIFFUSE_CONFIDENCE_NARROWING_KNEE's 0.7; RELAX_SPECULAR's frames kept are not moved to the new lighting where the
 // light toggles every 4 frames: 4 -> 4, Shaders/Confidence/README.md).
 // The ratio of one run (one noise seed) spreads by more than the excesses it decides: over seeds 1
