@@ -77,6 +77,13 @@ struct SigmaSettings
     // the anisotropic penumbra blur; {0, 0, 0} means "unknown" (isotropic blur).
     float lightDirection[3] = {0.0f, 0.0f, 0.0f};
 
+    // tan of the infinite light's angular radius, as given to SIGMA_FrontEnd_PackShadow, [0, 1]; 0 means
+    // "unknown". With it and lightDirection set every frame, a light that turns moves each shadow
+    // by (distance to the occluder) * tan(turn) a frame, tan(turn) / this many penumbra radii: hard
+    // shadows keep no more history than SIGMA_SHADOW_MOTION_HISTORY_PIXELS of that motion (a
+    // time-of-day sun). 0 leaves the history to the neighbourhood rules alone.
+    float tanOfLightAngularRadius = 0.0f;
+
     // Geometry edge stopping: relative plane distance tolerance, (0, 1].
     float planeDistanceSensitivity = 0.02f;
 

@@ -13,6 +13,7 @@
 //                          when maxStabilizedFrameNum is 0. History ping-pongs by frame parity.
 #include "InstanceImpl.h"
 
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 
@@ -91,6 +92,12 @@ Result ValidateSigmaSettings(const SigmaSettings& s, const Logger& log)
             log.Error("SetMethodSettings: SigmaSettings::lightDirection[%d] is not finite", i);
             return Result::INVALID_ARGUMENT;
         }
+    }
+    if (!(s.tanOfLightAngularRadius >= 0.0f && s.tanOfLightAngularRadius <= 1.0f))
+    {
+        log.Error("SetMethodSettings: SigmaSettings::tanOfLightAngularRadius %g is outside [0, 1]",
+                  double(s.tanOfLightAngularRadius));
+        return Result::INVALID_ARGUMENT;
     }
     if (!(s.planeDistanceSensitivity > 0.0f && s.planeDistanceSensitivity <= 1.0f))
     {
@@ -192,7 +199,7 @@ public:
         c.gBlurRadiusScale = m_Settings.blurRadiusScale * kKernelRadiusPerPenumbraRadius;
         c.gPlaneDistanceSensitivity = m_Settings.planeDistanceSensitivity;
         c.gMaxStabilizedFrameNum = float(m_Settings.maxStabilizedFrameNum);
-        c.gSigmaPad0 = 0;
+        c.gShadowMotionPerPenumbra = ShadowMotionPerPenumbra(frame);
 
         // One constant block serves all passes (same layout, checked above).
         context.Dispatch(m_Classify, Cast<typename P::ClassifyTiles::Constants>(c), frame.width, frame.height);
@@ -232,7 +239,41 @@ private:
         return {v[0] / length, v[1] / length, v[2] / length, 1.0f};
     }
 
+    // How far the light's turn since the previous frame moves a shadow, in penumbra radii (both grow
+    // with the distance to the occluder): tan(turn) / tan(angular radius). 0 when the light's direction
+    // or size is unknown, on a history reset and when the previous frame's direction is unknown. A
+    // second call for the same frameIndex returns the first one's value.
+    float ShadowMotionPerPenumbra(const FrameData& frame)
+    {
+        if (m_HasLightFrame && frame.common.frameIndex == m_LightFrameIndex)
+            return m_ShadowMotion;
+        const float* l = m_Settings.lightDirection;
+        float length = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
+        bool isKnown = length > 1e-12f && std::isfinite(length);
+        m_ShadowMotion = 0.0f;
+        if (isKnown && m_HasPrevLight && !frame.resetHistory && m_Settings.tanOfLightAngularRadius > 0.0f)
+        {
+            float cosine = (l[0] * m_PrevLight[0] + l[1] * m_PrevLight[1] + l[2] * m_PrevLight[2]) / length;
+            cosine = std::min(std::max(cosine, -1.0f), 1.0f);
+            float sine = std::sqrt(std::max(1.0f - cosine * cosine, 0.0f));
+            // A turn of 45 degrees or more leaves nothing of any shadow where it was.
+            float tangent = cosine > 0.7071f ? sine / cosine : 1.0f;
+            m_ShadowMotion = std::min(tangent / m_Settings.tanOfLightAngularRadius, 65504.0f);
+        }
+        m_HasPrevLight = isKnown;
+        for (int i = 0; i < 3; i++)
+            m_PrevLight[i] = isKnown ? l[i] / length : 0.0f;
+        m_HasLightFrame = true;
+        m_LightFrameIndex = frame.common.frameIndex;
+        return m_ShadowMotion;
+    }
+
     SigmaSettings m_Settings = {};
+    float m_PrevLight[3] = {}; // normalized, the last frame's
+    bool m_HasPrevLight = false;
+    bool m_HasLightFrame = false;
+    uint32_t m_LightFrameIndex = 0;
+    float m_ShadowMotion = 0.0f;
     uint32_t m_Classify = 0;
     uint32_t m_Smooth = 0;
     uint32_t m_Blur = 0;

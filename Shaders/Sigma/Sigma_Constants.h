@@ -6,6 +6,8 @@
 // gBlurRadiusScale        kernel radius in pixels per pixel of penumbra radius
 // gPlaneDistanceSensitivity  plane distance tolerance relative to viewZ
 // gMaxStabilizedFrameNum  temporal stabilization length in frames
+// gShadowMotionPerPenumbra  how far the light's turn since the previous frame moved a shadow, in its
+//                         penumbra radii (0: unknown or none)
 #ifndef SIGMA_TRANSLUCENCY
 #define SIGMA_TRANSLUCENCY 0
 #endif
@@ -15,4 +17,4 @@
     NRD_CONSTANT(float, gBlurRadiusScale)            \
     NRD_CONSTANT(float, gPlaneDistanceSensitivity)   \
     NRD_CONSTANT(float, gMaxStabilizedFrameNum)      \
-    NRD_CONSTANT(uint, gSigmaPad0)
+    NRD_CONSTANT(float, gShadowMotionPerPenumbra)

@@ -51,6 +51,9 @@
 // HARD_SHADOW_RESAMPLED_BLEND of the history (see main).
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
+#ifndef SIGMA_SHADOW_MOTION_HISTORY_PIXELS
+#define SIGMA_SHADOW_MOTION_HISTORY_PIXELS 0.05
+#endif
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
@@ -206,6 +209,7 @@ void main()
     bool isResampledHard = false;
     float tapLit = 0.0;
     float kernelRadius = 0.0;
+    float shadowMotion = 0.0; // pixels this frame, from the light's turn
     if (viewZ != 0.0)
     {
         // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
@@ -213,6 +217,16 @@ void main()
         float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
         kernelRadius = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0));
         isHardShadow = kernelRadius < 1.0;
+        // The penumbra estimate of a pixel prefers the smaller penumbrae around it (Sigma_Blur): the
+        // largest of the 3x3 neighbourhood's sets the motion.
+        float widest = penumbra;
+        for (int j = -1; j <= 1 && gShadowMotionPerPenumbra > 0.0; j++)
+            for (int i = -1; i <= 1; i++)
+                widest = max(widest, texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), clamp(pixel + ivec2(i, j), ivec2(0), ivec2(gResourceSize) - 1), 0).x);
+        // No shadowed sample around (lit, SIGMA_UNKNOWN_PENUMBRA) while the light turns: a shadow
+        // that was there has moved on; a lit sample is exact there.
+        widest = _NRD_Sanitize(widest, SIGMA_UNKNOWN_PENUMBRA);
+        shadowMotion = widest >= 0.0 ? widest * gShadowMotionPerPenumbra : (gShadowMotionPerPenumbra > 0.0 ? NRD_FP16_MAX : 0.0);
 
         vec2 uv = _NRD_PixelUv(pixel);
         vec3 Xv = _NRD_ViewPosition(uv, viewZ);
@@ -480,6 +494,14 @@ void main()
                 antilag = 0.0;
         }
         historyLength = min(historyLength * antilag, gMaxStabilizedFrameNum);
+        // A hard shadow that the light's turn moves (gShadowMotionPerPenumbra: the same distance to
+        // the occluder sets the penumbra and the motion) keeps no more frames than hold
+        // SIGMA_SHADOW_MOTION_HISTORY_PIXELS of its motion: older ones are the shadow where it was.
+        if (isHardShadow && shadowMotion > 0.0)
+        {
+            float keep = SIGMA_SHADOW_MOTION_HISTORY_PIXELS / shadowMotion;
+            historyLength = min(historyLength, keep < 1.0 ? 0.0 : keep);
+        }
 
         result = mix(current, clamped, historyLength / (historyLength + 1.0));
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);

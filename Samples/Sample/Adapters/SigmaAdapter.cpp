@@ -3,6 +3,7 @@
 
 #include "NRDIntegration.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace nrdlab
@@ -46,6 +47,7 @@ public:
     void ApplyFrameSettings(nrd::Integration& integration, nrd::Identifier id, const FrameData& frame) override
     {
         memcpy(m_Settings.lightDirection, frame.light.direction, sizeof(m_Settings.lightDirection));
+        m_Settings.tanOfLightAngularRadius = std::min(frame.light.tanOfLightAngularRadius, 1.0f);
         integration.SetMethodSettings(id, m_Settings);
     }
 
