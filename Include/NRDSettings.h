@@ -77,12 +77,20 @@ struct SigmaSettings
     // the anisotropic penumbra blur; {0, 0, 0} means "unknown" (isotropic blur).
     float lightDirection[3] = {0.0f, 0.0f, 0.0f};
 
-    // tan of the infinite light's angular radius, as given to SIGMA_FrontEnd_PackShadow, [0, 1]; 0 means
-    // "unknown". With it and lightDirection set every frame, a light that turns moves each shadow
-    // by (distance to the occluder) * tan(turn) a frame, tan(turn) / this many penumbra radii: hard
-    // shadows keep no more history than SIGMA_SHADOW_MOTION_HISTORY_PIXELS of that motion (a
-    // time-of-day sun). 0 leaves the history to the neighbourhood rules alone.
+    // Moving lights. Shadows that a moving light carries across still surfaces have no motion
+    // vectors; told where the light is every frame, SIGMA keeps a hard shadow's history only while
+    // it holds less than 1/20 pixel of that motion (the history of a shadow that moved is the
+    // shadow where it was). Either of:
+    // - an infinite light: lightDirection and tan of its angular radius (the value given to
+    //   SIGMA_FrontEnd_PackShadow), [0, 1]; a turn moves each shadow by tan(turn) / this many
+    //   penumbra radii (a time-of-day sun);
+    // - a sphere light: its world-space position and radius, (0, 1e6]; a move moves each shadow by the
+    //   light's displacement across the direction to it, over the radius, penumbra radii.
+    // 0 (the defaults) means unknown: the history is left to the neighbourhood rules alone. The
+    // sphere light wins where both are set.
     float tanOfLightAngularRadius = 0.0f;
+    float lightPosition[3] = {0.0f, 0.0f, 0.0f};
+    float lightRadius = 0.0f;
 
     // Geometry edge stopping: relative plane distance tolerance, (0, 1].
     float planeDistanceSensitivity = 0.02f;

@@ -93,6 +93,19 @@ Result ValidateSigmaSettings(const SigmaSettings& s, const Logger& log)
             return Result::INVALID_ARGUMENT;
         }
     }
+    for (int i = 0; i < 3; i++)
+    {
+        if (!(std::abs(s.lightPosition[i]) <= 1e30f))
+        {
+            log.Error("SetMethodSettings: SigmaSettings::lightPosition[%d] is not finite (or beyond 1e30)", i);
+            return Result::INVALID_ARGUMENT;
+        }
+    }
+    if (!(s.lightRadius >= 0.0f && s.lightRadius <= 1e6f))
+    {
+        log.Error("SetMethodSettings: SigmaSettings::lightRadius %g is outside [0, 1e6]", double(s.lightRadius));
+        return Result::INVALID_ARGUMENT;
+    }
     if (!(s.tanOfLightAngularRadius >= 0.0f && s.tanOfLightAngularRadius <= 1.0f))
     {
         log.Error("SetMethodSettings: SigmaSettings::tanOfLightAngularRadius %g is outside [0, 1]",
@@ -200,6 +213,22 @@ public:
         c.gPlaneDistanceSensitivity = m_Settings.planeDistanceSensitivity;
         c.gMaxStabilizedFrameNum = float(m_Settings.maxStabilizedFrameNum);
         c.gShadowMotionPerPenumbra = ShadowMotionPerPenumbra(frame);
+        c.gLightPositionView = {0.0f, 0.0f, 0.0f, 0.0f};
+        c.gLightMotionView = {0.0f, 0.0f, 0.0f, 0.0f};
+        if (m_Settings.lightRadius > 0.0f)
+        {
+            const float* m = frame.common.worldToViewMatrix;
+            const float* p = m_Settings.lightPosition;
+            float v[3], d[3];
+            for (int row = 0; row < 3; row++)
+            {
+                v[row] = m[0 * 4 + row] * p[0] + m[1 * 4 + row] * p[1] + m[2 * 4 + row] * p[2] + m[3 * 4 + row];
+                d[row] = m[0 * 4 + row] * m_LightMotion[0] + m[1 * 4 + row] * m_LightMotion[1] + m[2 * 4 + row] * m_LightMotion[2];
+            }
+            c.gLightPositionView = {v[0], v[1], v[2], 1.0f / m_Settings.lightRadius};
+            c.gLightMotionView = {d[0], d[1], d[2], 1.0f};
+            c.gShadowMotionPerPenumbra = 0.0f;
+        }
 
         // One constant block serves all passes (same layout, checked above).
         context.Dispatch(m_Classify, Cast<typename P::ClassifyTiles::Constants>(c), frame.width, frame.height);
@@ -263,6 +292,14 @@ private:
         m_HasPrevLight = isKnown;
         for (int i = 0; i < 3; i++)
             m_PrevLight[i] = isKnown ? l[i] / length : 0.0f;
+        // Sphere light: its displacement since the previous frame (the shaders take its part across
+        // the direction to each pixel).
+        bool isLocal = m_Settings.lightRadius > 0.0f;
+        for (int i = 0; i < 3; i++)
+            m_LightMotion[i] = isLocal && m_HasPrevPosition && !frame.resetHistory ? m_Settings.lightPosition[i] - m_PrevPosition[i] : 0.0f;
+        m_HasPrevPosition = isLocal;
+        for (int i = 0; i < 3; i++)
+            m_PrevPosition[i] = m_Settings.lightPosition[i];
         m_HasLightFrame = true;
         m_LightFrameIndex = frame.common.frameIndex;
         return m_ShadowMotion;
@@ -274,6 +311,9 @@ private:
     bool m_HasLightFrame = false;
     uint32_t m_LightFrameIndex = 0;
     float m_ShadowMotion = 0.0f;
+    float m_PrevPosition[3] = {};
+    bool m_HasPrevPosition = false;
+    float m_LightMotion[3] = {}; // world space, this frame's
     uint32_t m_Classify = 0;
     uint32_t m_Smooth = 0;
     uint32_t m_Blur = 0;

@@ -8,6 +8,9 @@
 // gMaxStabilizedFrameNum  temporal stabilization length in frames
 // gShadowMotionPerPenumbra  how far the light's turn since the previous frame moved a shadow, in its
 //                         penumbra radii (0: unknown or none)
+// gLightPositionView      .xyz a sphere light's position in view space, .w 1 / its radius (0: none)
+// gLightMotionView        .xyz its displacement since the previous frame (world, rotated into view
+//                         space), .w 1 with a sphere light
 #ifndef SIGMA_TRANSLUCENCY
 #define SIGMA_TRANSLUCENCY 0
 #endif
@@ -17,4 +20,6 @@
     NRD_CONSTANT(float, gBlurRadiusScale)            \
     NRD_CONSTANT(float, gPlaneDistanceSensitivity)   \
     NRD_CONSTANT(float, gMaxStabilizedFrameNum)      \
-    NRD_CONSTANT(float, gShadowMotionPerPenumbra)
+    NRD_CONSTANT(float, gShadowMotionPerPenumbra)    \
+    NRD_CONSTANT(vec4, gLightPositionView)           \
+    NRD_CONSTANT(vec4, gLightMotionView)

@@ -220,13 +220,24 @@ void main()
         // The penumbra estimate of a pixel prefers the smaller penumbrae around it (Sigma_Blur): the
         // largest of the 3x3 neighbourhood's sets the motion.
         float widest = penumbra;
-        for (int j = -1; j <= 1 && gShadowMotionPerPenumbra > 0.0; j++)
+        for (int j = -1; j <= 1 && (gShadowMotionPerPenumbra > 0.0 || gLightMotionView.w != 0.0); j++)
             for (int i = -1; i <= 1; i++)
                 widest = max(widest, texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), clamp(pixel + ivec2(i, j), ivec2(0), ivec2(gResourceSize) - 1), 0).x);
         // No shadowed sample around (lit, SIGMA_UNKNOWN_PENUMBRA) while the light turns: a shadow
         // that was there has moved on; a lit sample is exact there.
         widest = _NRD_Sanitize(widest, SIGMA_UNKNOWN_PENUMBRA);
-        shadowMotion = widest >= 0.0 ? widest * gShadowMotionPerPenumbra : (gShadowMotionPerPenumbra > 0.0 ? NRD_FP16_MAX : 0.0);
+        float motionPerPenumbra = gShadowMotionPerPenumbra;
+        if (gLightMotionView.w != 0.0)
+        {
+            // A sphere light: a pixel's shadow moves by the light's displacement across the direction
+            // to it, over the light's radius, penumbra radii (distance to the light over the radius
+            // and the angle it turned by both scale with 1 / that distance).
+            vec3 toLight = gLightPositionView.xyz - _NRD_ViewPosition(_NRD_PixelUv(pixel), viewZ);
+            float distance = length(toLight);
+            vec3 across = distance > 0.0 ? cross(gLightMotionView.xyz, toLight / distance) : vec3(0.0);
+            motionPerPenumbra = min(length(across) * gLightPositionView.w, NRD_FP16_MAX);
+        }
+        shadowMotion = widest >= 0.0 ? widest * motionPerPenumbra : (motionPerPenumbra > 0.0 ? NRD_FP16_MAX : 0.0);
 
         vec2 uv = _NRD_PixelUv(pixel);
         vec3 Xv = _NRD_ViewPosition(uv, viewZ);
@@ -500,7 +511,10 @@ void main()
         if (isHardShadow && shadowMotion > 0.0)
         {
             float keep = SIGMA_SHADOW_MOTION_HISTORY_PIXELS / shadowMotion;
-            historyLength = min(historyLength, keep < 1.0 ? 0.0 : keep);
+            if (keep < 1.0)
+                isPassed = true;
+            else
+                historyLength = min(historyLength, keep);
         }
 
         result = mix(current, clamped, historyLength / (historyLength + 1.0));

@@ -172,12 +172,14 @@ nrd::SigmaSettings DecodeSigma(FuzzedDataProvider& in)
     uint32_t edits = in.ConsumeIntegralInRange<uint32_t>(0, 3);
     for (uint32_t e = 0; e < edits; e++)
     {
-        switch (in.ConsumeIntegralInRange<uint8_t>(0, 4))
+        switch (in.ConsumeIntegralInRange<uint8_t>(0, 6))
         {
         case 0: s.lightDirection[in.ConsumeIntegralInRange<uint8_t>(0, 2)] = InterestingFloat(in); break;
         case 1: s.planeDistanceSensitivity = InterestingFloat(in); break;
         case 2: s.blurRadiusScale = InterestingFloat(in); break;
         case 3: s.tanOfLightAngularRadius = InterestingFloat(in); break;
+        case 4: s.lightPosition[in.ConsumeIntegralInRange<uint8_t>(0, 2)] = InterestingFloat(in); break;
+        case 5: s.lightRadius = InterestingFloat(in); break;
         default: s.maxStabilizedFrameNum = InterestingUint(in); break;
         }
     }

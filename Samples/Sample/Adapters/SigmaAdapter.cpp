@@ -48,6 +48,8 @@ public:
     {
         memcpy(m_Settings.lightDirection, frame.light.direction, sizeof(m_Settings.lightDirection));
         m_Settings.tanOfLightAngularRadius = std::min(frame.light.tanOfLightAngularRadius, 1.0f);
+        memcpy(m_Settings.lightPosition, frame.light.position, sizeof(m_Settings.lightPosition));
+        m_Settings.lightRadius = frame.light.type == LightType::SPHERE ? frame.light.radius : 0.0f;
         integration.SetMethodSettings(id, m_Settings);
     }
 
