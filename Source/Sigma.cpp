@@ -225,8 +225,9 @@ public:
                 v[row] = m[0 * 4 + row] * p[0] + m[1 * 4 + row] * p[1] + m[2 * 4 + row] * p[2] + m[3 * 4 + row];
                 d[row] = m[0 * 4 + row] * m_LightMotion[0] + m[1 * 4 + row] * m_LightMotion[1] + m[2 * 4 + row] * m_LightMotion[2];
             }
+            bool isMoving = m_LightMotion[0] != 0.0f || m_LightMotion[1] != 0.0f || m_LightMotion[2] != 0.0f;
             c.gLightPositionView = {v[0], v[1], v[2], 1.0f / m_Settings.lightRadius};
-            c.gLightMotionView = {d[0], d[1], d[2], 1.0f};
+            c.gLightMotionView = {d[0], d[1], d[2], isMoving ? 1.0f : 0.0f};
             c.gShadowMotionPerPenumbra = 0.0f;
         }
 

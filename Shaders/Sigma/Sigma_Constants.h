@@ -10,7 +10,7 @@
 //                         penumbra radii (0: unknown or none)
 // gLightPositionView      .xyz a sphere light's position in view space, .w 1 / its radius (0: none)
 // gLightMotionView        .xyz its displacement since the previous frame (world, rotated into view
-//                         space), .w 1 with a sphere light
+//                         space), .w 1 with a sphere light that moved, 0 otherwise
 #ifndef SIGMA_TRANSLUCENCY
 #define SIGMA_TRANSLUCENCY 0
 #endif

@@ -57,6 +57,7 @@
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
+shared float s_Penumbra[SMEM_SIZE][SMEM_SIZE]; // pixels; loaded only while the light moves
 // Moving-tile test (see MovingTile): over the group's hard-shadow pixels, the expected number of
 // contradictions of a still view (x 1024), the contradictions with a neighbour contradicting the same
 // way (departures: lit under dark history; arrivals: dark under lit), and how many of the pixels were
@@ -162,6 +163,8 @@ void main()
         return;
     }
 
+    // The light moved since the previous frame (Source/Sigma.cpp; uniform over the dispatch).
+    bool isLightMoving = gShadowMotionPerPenumbra > 0.0 || gLightMotionView.w != 0.0;
     if (gl_LocalInvocationIndex == 0u)
     {
         s_ExpectedContradictions = 0u;
@@ -188,6 +191,10 @@ void main()
         }
         s_ViewZ[smemPos.y][smemPos.x] = z;
         s_Signal[smemPos.y][smemPos.x] = s;
+        if (isLightMoving && z != 0.0)
+            s_Penumbra[smemPos.y][smemPos.x] = _NRD_Sanitize(texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), p, 0).x, SIGMA_UNKNOWN_PENUMBRA);
+        else if (isLightMoving)
+            s_Penumbra[smemPos.y][smemPos.x] = SIGMA_UNKNOWN_PENUMBRA;
     }
     barrier();
 
@@ -217,27 +224,29 @@ void main()
         float penumbra = texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), pixel, 0).x;
         kernelRadius = _Sigma_KernelRadius(max(_NRD_Sanitize(penumbra, 0.0), 0.0));
         isHardShadow = kernelRadius < 1.0;
-        // The penumbra estimate of a pixel prefers the smaller penumbrae around it (Sigma_Blur): the
-        // largest of the 3x3 neighbourhood's sets the motion.
-        float widest = penumbra;
-        for (int j = -1; j <= 1 && (gShadowMotionPerPenumbra > 0.0 || gLightMotionView.w != 0.0); j++)
-            for (int i = -1; i <= 1; i++)
-                widest = max(widest, texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), clamp(pixel + ivec2(i, j), ivec2(0), ivec2(gResourceSize) - 1), 0).x);
-        // No shadowed sample around (lit, SIGMA_UNKNOWN_PENUMBRA) while the light turns: a shadow
-        // that was there has moved on; a lit sample is exact there.
-        widest = _NRD_Sanitize(widest, SIGMA_UNKNOWN_PENUMBRA);
-        float motionPerPenumbra = gShadowMotionPerPenumbra;
-        if (gLightMotionView.w != 0.0)
+        if (isLightMoving)
         {
+            // The penumbra estimate of a pixel prefers the smaller penumbrae around it (Sigma_Blur):
+            // the largest of the 3x3 neighbourhood's (on a surface) sets the motion. Where there is
+            // none (lit, SIGMA_UNKNOWN_PENUMBRA) a shadow that was there has moved on, and a lit
+            // sample is exact.
+            float widest = SIGMA_UNKNOWN_PENUMBRA;
+            for (int j = -1; j <= 1; j++)
+                for (int i = -1; i <= 1; i++)
+                    widest = max(widest, s_Penumbra[c.y + j][c.x + i]);
+            float motionPerPenumbra = gShadowMotionPerPenumbra;
+            if (gLightMotionView.w != 0.0)
+            {
             // A sphere light: a pixel's shadow moves by the light's displacement across the direction
             // to it, over the light's radius, penumbra radii (distance to the light over the radius
             // and the angle it turned by both scale with 1 / that distance).
-            vec3 toLight = gLightPositionView.xyz - _NRD_ViewPosition(_NRD_PixelUv(pixel), viewZ);
-            float distance = length(toLight);
-            vec3 across = distance > 0.0 ? cross(gLightMotionView.xyz, toLight / distance) : vec3(0.0);
-            motionPerPenumbra = min(length(across) * gLightPositionView.w, NRD_FP16_MAX);
+                vec3 toLight = gLightPositionView.xyz - _NRD_ViewPosition(_NRD_PixelUv(pixel), viewZ);
+                float distance = length(toLight);
+                vec3 across = distance > 0.0 ? cross(gLightMotionView.xyz, toLight / distance) : vec3(0.0);
+                motionPerPenumbra = min(length(across) * gLightPositionView.w, NRD_FP16_MAX);
+            }
+            shadowMotion = widest >= 0.0 ? widest * motionPerPenumbra : (motionPerPenumbra > 0.0 ? NRD_FP16_MAX : 0.0);
         }
-        shadowMotion = widest >= 0.0 ? widest * motionPerPenumbra : (motionPerPenumbra > 0.0 ? NRD_FP16_MAX : 0.0);
 
         vec2 uv = _NRD_PixelUv(pixel);
         vec3 Xv = _NRD_ViewPosition(uv, viewZ);
