@@ -180,6 +180,19 @@ struct TiledShadowSettings
     // n < 16, so values below 16 keep the spatial filter stronger.
     uint32_t maxHistoryFrameNum = 32;
 
+    // Moving lights, as SigmaSettings' (a departure from document 000): with isShadowDataInput the
+    // application also provides IN_SHADOWDATA (SIGMA_FrontEnd_PackShadow: the penumbra of each
+    // shadowed sample) and, every frame, the light: an infinite light's direction and tan of its
+    // angular radius ([0, 1]) or a sphere light's world-space position and radius ([0, 1e6]; wins
+    // where both are set). A hard shadow (penumbra radius under a pixel) that the light's move since
+    // the previous frame carried keeps at most 1/20 pixel of that motion in its history, and outputs
+    // its sample where not a whole frame fits. Zeros: unknown (nothing changes).
+    bool isShadowDataInput = false;
+    float lightDirection[3] = {0.0f, 0.0f, 0.0f};
+    float tanOfLightAngularRadius = 0.0f;
+    float lightPosition[3] = {0.0f, 0.0f, 0.0f};
+    float lightRadius = 0.0f;
+
     TiledShadowDebug debugView = TiledShadowDebug::NONE;
 };
 

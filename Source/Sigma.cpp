@@ -12,6 +12,7 @@
 //                          up to maxStabilizedFrameNum frames; skipped (post-blur writes the output)
 //                          when maxStabilizedFrameNum is 0. History ping-pongs by frame parity.
 #include "InstanceImpl.h"
+#include "ShadowLightMotion.h"
 
 #include <algorithm>
 #include <cmath>
@@ -93,25 +94,9 @@ Result ValidateSigmaSettings(const SigmaSettings& s, const Logger& log)
             return Result::INVALID_ARGUMENT;
         }
     }
-    for (int i = 0; i < 3; i++)
-    {
-        if (!(std::abs(s.lightPosition[i]) <= 1e30f))
-        {
-            log.Error("SetMethodSettings: SigmaSettings::lightPosition[%d] is not finite (or beyond 1e30)", i);
-            return Result::INVALID_ARGUMENT;
-        }
-    }
-    if (!(s.lightRadius >= 0.0f && s.lightRadius <= 1e6f))
-    {
-        log.Error("SetMethodSettings: SigmaSettings::lightRadius %g is outside [0, 1e6]", double(s.lightRadius));
-        return Result::INVALID_ARGUMENT;
-    }
-    if (!(s.tanOfLightAngularRadius >= 0.0f && s.tanOfLightAngularRadius <= 1.0f))
-    {
-        log.Error("SetMethodSettings: SigmaSettings::tanOfLightAngularRadius %g is outside [0, 1]",
-                  double(s.tanOfLightAngularRadius));
-        return Result::INVALID_ARGUMENT;
-    }
+    Result lightResult = ValidateShadowLight("SigmaSettings", s.tanOfLightAngularRadius, s.lightPosition, s.lightRadius, log);
+    if (lightResult != Result::SUCCESS)
+        return lightResult;
     if (!(s.planeDistanceSensitivity > 0.0f && s.planeDistanceSensitivity <= 1.0f))
     {
         log.Error("SetMethodSettings: SigmaSettings::planeDistanceSensitivity %g is outside (0, 1]",
@@ -212,24 +197,16 @@ public:
         c.gBlurRadiusScale = m_Settings.blurRadiusScale * kKernelRadiusPerPenumbraRadius;
         c.gPlaneDistanceSensitivity = m_Settings.planeDistanceSensitivity;
         c.gMaxStabilizedFrameNum = float(m_Settings.maxStabilizedFrameNum);
-        c.gShadowMotionPerPenumbra = ShadowMotionPerPenumbra(frame);
-        c.gLightPositionView = {0.0f, 0.0f, 0.0f, 0.0f};
-        c.gLightMotionView = {0.0f, 0.0f, 0.0f, 0.0f};
-        if (m_Settings.lightRadius > 0.0f)
-        {
-            const float* m = frame.common.worldToViewMatrix;
-            const float* p = m_Settings.lightPosition;
-            float v[3], d[3];
-            for (int row = 0; row < 3; row++)
-            {
-                v[row] = m[0 * 4 + row] * p[0] + m[1 * 4 + row] * p[1] + m[2 * 4 + row] * p[2] + m[3 * 4 + row];
-                d[row] = m[0 * 4 + row] * m_LightMotion[0] + m[1 * 4 + row] * m_LightMotion[1] + m[2 * 4 + row] * m_LightMotion[2];
-            }
-            bool isMoving = m_LightMotion[0] != 0.0f || m_LightMotion[1] != 0.0f || m_LightMotion[2] != 0.0f;
-            c.gLightPositionView = {v[0], v[1], v[2], 1.0f / m_Settings.lightRadius};
-            c.gLightMotionView = {d[0], d[1], d[2], isMoving ? 1.0f : 0.0f};
-            c.gShadowMotionPerPenumbra = 0.0f;
-        }
+        ShadowLightDesc light;
+        light.direction = m_Settings.lightDirection;
+        light.tanOfAngularRadius = m_Settings.tanOfLightAngularRadius;
+        light.position = m_Settings.lightPosition;
+        light.radius = m_Settings.lightRadius;
+        ShadowLightMotionConstants motion =
+            m_LightMotion.Update(light, frame.common.frameIndex, frame.resetHistory, frame.common.worldToViewMatrix);
+        c.gShadowMotionPerPenumbra = motion.motionPerPenumbra;
+        c.gLightPositionView = motion.lightPositionView;
+        c.gLightMotionView = motion.lightMotionView;
 
         // One constant block serves all passes (same layout, checked above).
         context.Dispatch(m_Classify, Cast<typename P::ClassifyTiles::Constants>(c), frame.width, frame.height);
@@ -269,52 +246,8 @@ private:
         return {v[0] / length, v[1] / length, v[2] / length, 1.0f};
     }
 
-    // How far the light's turn since the previous frame moves a shadow, in penumbra radii (both grow
-    // with the distance to the occluder): tan(turn) / tan(angular radius). 0 when the light's direction
-    // or size is unknown, on a history reset and when the previous frame's direction is unknown. A
-    // second call for the same frameIndex returns the first one's value.
-    float ShadowMotionPerPenumbra(const FrameData& frame)
-    {
-        if (m_HasLightFrame && frame.common.frameIndex == m_LightFrameIndex)
-            return m_ShadowMotion;
-        const float* l = m_Settings.lightDirection;
-        float length = std::sqrt(l[0] * l[0] + l[1] * l[1] + l[2] * l[2]);
-        bool isKnown = length > 1e-12f && std::isfinite(length);
-        m_ShadowMotion = 0.0f;
-        if (isKnown && m_HasPrevLight && !frame.resetHistory && m_Settings.tanOfLightAngularRadius > 0.0f)
-        {
-            float cosine = (l[0] * m_PrevLight[0] + l[1] * m_PrevLight[1] + l[2] * m_PrevLight[2]) / length;
-            cosine = std::min(std::max(cosine, -1.0f), 1.0f);
-            float sine = std::sqrt(std::max(1.0f - cosine * cosine, 0.0f));
-            // A turn of 45 degrees or more leaves nothing of any shadow where it was.
-            float tangent = cosine > 0.7071f ? sine / cosine : 1.0f;
-            m_ShadowMotion = std::min(tangent / m_Settings.tanOfLightAngularRadius, 65504.0f);
-        }
-        m_HasPrevLight = isKnown;
-        for (int i = 0; i < 3; i++)
-            m_PrevLight[i] = isKnown ? l[i] / length : 0.0f;
-        // Sphere light: its displacement since the previous frame (the shaders take its part across
-        // the direction to each pixel).
-        bool isLocal = m_Settings.lightRadius > 0.0f;
-        for (int i = 0; i < 3; i++)
-            m_LightMotion[i] = isLocal && m_HasPrevPosition && !frame.resetHistory ? m_Settings.lightPosition[i] - m_PrevPosition[i] : 0.0f;
-        m_HasPrevPosition = isLocal;
-        for (int i = 0; i < 3; i++)
-            m_PrevPosition[i] = m_Settings.lightPosition[i];
-        m_HasLightFrame = true;
-        m_LightFrameIndex = frame.common.frameIndex;
-        return m_ShadowMotion;
-    }
-
     SigmaSettings m_Settings = {};
-    float m_PrevLight[3] = {}; // normalized, the last frame's
-    bool m_HasPrevLight = false;
-    bool m_HasLightFrame = false;
-    uint32_t m_LightFrameIndex = 0;
-    float m_ShadowMotion = 0.0f;
-    float m_PrevPosition[3] = {};
-    bool m_HasPrevPosition = false;
-    float m_LightMotion[3] = {}; // world space, this frame's
+    ShadowLightMotion m_LightMotion;
     uint32_t m_Classify = 0;
     uint32_t m_Smooth = 0;
     uint32_t m_Blur = 0;

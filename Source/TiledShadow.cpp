@@ -8,6 +8,7 @@
 // counter buffer; transient two RG16F (shadow and variance, ping-pong), R32_UINT (packed temporal
 // moments) and two R32_UINT textures at 1/8 x 1/4 resolution (bitmasks, tile classes).
 #include "InstanceImpl.h"
+#include "ShadowLightMotion.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +20,9 @@ namespace passes
 NRD_PASS_TYPES
 #include "../Shaders/TiledShadow/TiledShadow_Prepare.resources.h"
 #include "../Shaders/TiledShadow/TiledShadow_Classify.resources.h"
+#define TS_SHADOW_DATA 1
+#include "../Shaders/TiledShadow/TiledShadow_Classify.resources.h"
+#undef TS_SHADOW_DATA
 #define TILED_SHADOW_STEP 1
 #include "../Shaders/TiledShadow/TiledShadow_Filter.resources.h"
 #undef TILED_SHADOW_STEP
@@ -41,6 +45,8 @@ constexpr uint32_t kCountersBytes = 2 * TILED_SHADOW_COUNTERS_SLOT_SIZE * sizeof
 static_assert(uint32_t(TiledShadowDebug::MAX_NUM) == 5, "TS_DEBUG_* in TiledShadow_Common.glsl");
 static_assert(TILED_SHADOW_MAX_HISTORY_FRAME_NUM == 63, "TS_MAX_HISTORY in TiledShadow_Common.glsl (8-bit count * 4)");
 static_assert(TILED_SHADOW_MAX_NEIGHBORHOOD_RADIUS == 8, "RADIUS_MAX in TiledShadow_Classify.comp");
+static_assert(sizeof(passes::TiledShadow_Classify::Constants) == sizeof(passes::TiledShadow_ClassifyShadowData::Constants),
+              "the classification's variants share one constant block");
 
 class TiledShadow final : public MethodBase
 {
@@ -69,6 +75,13 @@ public:
         m_Classify[1] = builder.AddDispatch<passes::TiledShadow_Classify>(
             "TILED_SHADOW - Classify", {App(ResourceType::IN_SHADOW_BITMASK), viewZ, normal, mv, state, shadowA, moments,
                                         tileClass, out, counters});
+        // With IN_SHADOWDATA (isShadowDataInput): the same two, and the light's move.
+        m_Classify[2] = builder.AddDispatch<passes::TiledShadow_ClassifyShadowData>(
+            "TILED_SHADOW - Classify", {mask, viewZ, normal, mv, state, shadowA, moments, tileClass, out, counters,
+                                        App(ResourceType::IN_SHADOWDATA)});
+        m_Classify[3] = builder.AddDispatch<passes::TiledShadow_ClassifyShadowData>(
+            "TILED_SHADOW - Classify", {App(ResourceType::IN_SHADOW_BITMASK), viewZ, normal, mv, state, shadowA, moments,
+                                        tileClass, out, counters, App(ResourceType::IN_SHADOWDATA)});
         // Ping-pong between two RG16F textures; the last pass run writes OUT.
         m_Filter[0] = builder.AddDispatch<passes::TiledShadow_Filter1>(
             "TILED_SHADOW - A-trous step 1", {shadowA, moments, viewZ, normal, tileClass, shadowB, out, state});
@@ -103,11 +116,20 @@ public:
             error = "maxHistoryFrameNum is outside [1, 63]";
         else if (uint32_t(s.debugView) >= uint32_t(TiledShadowDebug::MAX_NUM))
             error = "debugView is unknown";
+        else
+        {
+            for (int i = 0; i < 3 && !error; i++)
+                if (!std::isfinite(s.lightDirection[i]))
+                    error = "lightDirection is not finite";
+        }
         if (error)
         {
             log.Error("SetMethodSettings: TiledShadowSettings::%s", error);
             return Result::INVALID_ARGUMENT;
         }
+        Result lightResult = ValidateShadowLight("TiledShadowSettings", s.tanOfLightAngularRadius, s.lightPosition, s.lightRadius, log);
+        if (lightResult != Result::SUCCESS)
+            return lightResult;
         m_Settings = s;
         return Result::SUCCESS;
     }
@@ -158,7 +180,20 @@ public:
         c.gDebugView = uint32_t(s.debugView);
         c.gCounterSlot = m_MethodFrame & 1u;
         c.gMethodFrame = m_MethodFrame;
-        context.Dispatch(m_Classify[s.isBitmaskInput ? 1 : 0], c, frame.width, frame.height);
+        if (s.isShadowDataInput)
+        {
+            ShadowLightDesc light;
+            light.direction = s.lightDirection;
+            light.tanOfAngularRadius = s.tanOfLightAngularRadius;
+            light.position = s.lightPosition;
+            light.radius = s.lightRadius;
+            ShadowLightMotionConstants motion =
+                m_LightMotion.Update(light, frame.common.frameIndex, frame.resetHistory, frame.common.worldToViewMatrix);
+            c.gShadowMotionPerPenumbra = motion.motionPerPenumbra;
+            c.gLightPositionView = motion.lightPositionView;
+            c.gLightMotionView = motion.lightMotionView;
+        }
+        context.Dispatch(m_Classify[(s.isShadowDataInput ? 2 : 0) + (s.isBitmaskInput ? 1 : 0)], c, frame.width, frame.height);
 
         // A debug view keeps the first pass, which stores the history (so that the views show what
         // a running denoiser sees), without letting it write OUT_SHADOW_TRANSLUCENCY.
@@ -179,7 +214,9 @@ public:
 private:
     TiledShadowSettings m_Settings = {};
     uint32_t m_Prepare = 0;
-    uint32_t m_Classify[2] = {};
+    // Mask from the prepare pass / the application's, then the same with IN_SHADOWDATA.
+    uint32_t m_Classify[4] = {};
+    ShadowLightMotion m_LightMotion;
     uint32_t m_Filter[3] = {};
     uint32_t m_MethodFrame = 0;
 };

@@ -303,9 +303,18 @@ MethodTraits TraitsOf(Method method)
         t.recoveryFrames = 12;
         t.smallImageRecoveryFrames = 16;
         t.applyDefaults = Apply(S{});
-        t.discoveryVariants = {Edited<S>([](S& s) { s.isBitmaskInput = true; })};
+        t.discoveryVariants = {Edited<S>([](S& s) { s.isBitmaskInput = true; }),
+                               Edited<S>([](S& s) { s.isShadowDataInput = true; })};
         t.settingsCases = {
             SettingsCase("isBitmaskInput", Edited<S>([](S& s) { s.isBitmaskInput = true; }), {}),
+            SettingsCase("isShadowDataInput, sphere light",
+                         Edited<S>([](S& s) { s.isShadowDataInput = true; s.lightRadius = 1e6f; s.lightPosition[0] = 1e30f; }),
+                         {Edited<S>([](S& s) { s.isShadowDataInput = true; s.lightRadius = 1e6f * 1.001f; }),
+                          Edited<S>([](S& s) { s.lightPosition[1] = kNaN; })}),
+            SettingsCase("isShadowDataInput, infinite light",
+                         Edited<S>([](S& s) { s.isShadowDataInput = true; s.tanOfLightAngularRadius = 1.0f; s.lightDirection[1] = 1.0f; }),
+                         {Edited<S>([](S& s) { s.tanOfLightAngularRadius = -1e-6f; }),
+                          Edited<S>([](S& s) { s.lightDirection[2] = kInf; })}),
             SettingsCase("enableTileSkipping off", Edited<S>([](S& s) { s.enableTileSkipping = false; }), {}),
             SettingsCase("neighborhoodRadius 1", Edited<S>([](S& s) { s.neighborhoodRadius = 1; }),
                          {Edited<S>([](S& s) { s.neighborhoodRadius = 0; })}),

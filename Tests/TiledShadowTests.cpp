@@ -62,6 +62,8 @@ struct Inputs
     uint32_t width = 0, height = 0;
     std::vector<float> viewZ, normal, mv, visibility;
     std::vector<float> truth; // Expected visibility (quality tests).
+    // IN_SHADOWDATA (TiledShadowSettings::isShadowDataInput), 2 per pixel; empty: not bound.
+    std::vector<float> shadowData;
 
     Inputs(uint32_t w, uint32_t h) : width(w), height(h)
     {
@@ -197,14 +199,14 @@ struct TiledShadowRig
     lab::VulkanContext& context;
     Integration integration;
     uint32_t width = 0, height = 0;
-    lab::LabTexture viewZ, normal, mv, visibility, bitmask, output;
+    lab::LabTexture viewZ, normal, mv, visibility, bitmask, output, shadowData;
 
     explicit TiledShadowRig(lab::VulkanContext& c) : context(c) {}
 
     ~TiledShadowRig()
     {
         integration.Destroy();
-        for (lab::LabTexture* t : {&viewZ, &normal, &mv, &visibility, &bitmask, &output})
+        for (lab::LabTexture* t : {&viewZ, &normal, &mv, &visibility, &bitmask, &output, &shadowData})
             context.DestroyTexture(*t);
     }
 
@@ -224,6 +226,7 @@ struct TiledShadowRig
         REQUIRE(context.CreateTexture(rhi::Format::R32_UINT, (w + 7) / 8, (h + 3) / 4, "IN_SHADOW_BITMASK", bitmask) ==
                 VK_SUCCESS);
         REQUIRE(context.CreateTexture(rhi::Format::R32_SFLOAT, w, h, "OUT_SHADOW_TRANSLUCENCY", output) == VK_SUCCESS);
+        REQUIRE(context.CreateTexture(rhi::Format::RG16_SFLOAT, w, h, "IN_SHADOWDATA", shadowData) == VK_SUCCESS);
         ResetOutput();
     }
 
@@ -254,6 +257,11 @@ struct TiledShadowRig
                              {ResourceType::IN_SHADOW_VISIBILITY, &visibility},
                              {ResourceType::IN_SHADOW_BITMASK, &bitmask},
                              {ResourceType::OUT_SHADOW_TRANSLUCENCY, &output}};
+        if (!in.shadowData.empty())
+        {
+            REQUIRE(context.UploadTexture(shadowData, in.shadowData.data()) == VK_SUCCESS);
+            bindings.push_back({ResourceType::IN_SHADOWDATA, &shadowData});
+        }
         REQUIRE(test::DenoiseAndWait(context, integration, bindings) == VK_SUCCESS);
         std::vector<float> result;
         REQUIRE(context.ReadbackTexture(output, result) == VK_SUCCESS);
@@ -1072,5 +1080,75 @@ TEST_CASE("TILED_SHADOW follows thin lines of light that keep moving over a stil
                 dark);
     CHECK(lit >= 0.9);
     CHECK(dark <= 0.1);
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("TILED_SHADOW keeps no history of hard shadows that a moving light carries", "[vulkan]")
+{
+    // A hard shadow edge (penumbra radius 0.3 pixel) moving 0.25 pixel a frame without motion
+    // vectors. With IN_SHADOWDATA (the penumbra radius / viewZ of each shadowed sample) and a light
+    // that moves 0.833 penumbra radii a frame (an infinite light turning by tan 0.00833 a frame under
+    // tan(radius) 0.01; a sphere light of radius 0.1 moving 0.12 a frame across the direction to the
+    // plane, about 1.2 radii), every pixel outputs its sample. The same frames with the light's size
+    // unknown, or a light that stays, keep history.
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    enum class Light { INFINITE, SPHERE };
+    auto run = [&](Light type, float size, float step, size_t& changed)
+    {
+        EdgeScene scene;
+        scene.width = scene.height = 64;
+        scene.penumbraRadius = 0.3f;
+        TiledShadowRig rig(*context);
+        TiledShadowSettings settings = {};
+        settings.isShadowDataInput = true;
+        rig.Create(scene.width, scene.height, settings);
+        changed = 0;
+        for (uint32_t frame = 0; frame < 8; frame++)
+        {
+            if (type == Light::INFINITE)
+            {
+                float angle = std::atan(step) * float(frame);
+                settings.lightDirection[0] = std::sin(angle);
+                settings.lightDirection[1] = std::cos(angle);
+                settings.tanOfLightAngularRadius = size;
+            }
+            else
+            {
+                settings.lightPosition[0] = step * float(frame);
+                settings.lightPosition[1] = -5.0f;
+                settings.lightPosition[2] = kPlaneViewZ - 5.0f;
+                settings.lightRadius = size;
+            }
+            rig.SetSettings(settings);
+            scene.edgeOffset = 0.25f * float(frame);
+            Inputs in = scene.Make(15000 + frame);
+            in.shadowData.resize(in.visibility.size() * 2);
+            for (size_t i = 0; i < in.visibility.size(); i++)
+            {
+                bool lit = in.visibility[i] > 0.5f;
+                in.shadowData[i * 2 + 0] = lit ? 1.0f : 0.0f;
+                // Radius / viewZ for the still camera (|P11| = 1: pixels = value * 0.5 * height).
+                in.shadowData[i * 2 + 1] = lit ? 65504.0f : scene.penumbraRadius / (0.5f * float(scene.height));
+            }
+            std::vector<float> out = rig.Frame(frame, in);
+            REQUIRE(CountNonFinite(out) == 0);
+            if (frame == 0)
+                continue; // No previous light yet.
+            for (size_t i = 0; i < out.size(); i++)
+                changed += std::abs(out[i] - in.visibility[i]) > 1e-3f;
+        }
+    };
+    size_t turning = 0, moving = 0, unknownSize = 0, still = 0;
+    run(Light::INFINITE, 0.01f, 0.00833f, turning);
+    run(Light::SPHERE, 0.1f, 0.12f, moving);
+    run(Light::INFINITE, 0.0f, 0.00833f, unknownSize);
+    run(Light::SPHERE, 0.1f, 0.0f, still);
+    INFO("pixels unlike their sample over 7 frames: turning light " << turning << ", moving sphere light " << moving
+                                                                     << ", light of unknown size " << unknownSize << ", still light " << still);
+    CHECK(turning == 0);
+    CHECK(moving == 0);
+    CHECK(unknownSize >= 10);
+    CHECK(still >= 10);
     CHECK(context->ValidationMessageCount() == 0);
 }

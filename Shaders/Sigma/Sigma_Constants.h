@@ -6,11 +6,8 @@
 // gBlurRadiusScale        kernel radius in pixels per pixel of penumbra radius
 // gPlaneDistanceSensitivity  plane distance tolerance relative to viewZ
 // gMaxStabilizedFrameNum  temporal stabilization length in frames
-// gShadowMotionPerPenumbra  how far the light's turn since the previous frame moved a shadow, in its
-//                         penumbra radii (0: unknown or none)
-// gLightPositionView      .xyz a sphere light's position in view space, .w 1 / its radius (0: none)
-// gLightMotionView        .xyz its displacement since the previous frame (world, rotated into view
-//                         space), .w 1 with a sphere light that moved, 0 otherwise
+// gShadowMotionPerPenumbra, gLightPositionView, gLightMotionView: the light's move since the previous
+//                         frame (Shaders/Include/ShadowMotion.glsl, Source/ShadowLightMotion.h)
 #ifndef SIGMA_TRANSLUCENCY
 #define SIGMA_TRANSLUCENCY 0
 #endif

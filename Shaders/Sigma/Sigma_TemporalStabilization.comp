@@ -23,6 +23,7 @@
 #include "Sigma_TemporalStabilization.resources.h"
 #include "CommonFrame.glsl"
 #include "Sigma_Common.glsl"
+#include "ShadowMotion.glsl"
 
 #define BORDER 2
 #define SMEM_SIZE (SIGMA_TILE_SIZE + 2 * BORDER)
@@ -51,9 +52,6 @@
 // HARD_SHADOW_RESAMPLED_BLEND of the history (see main).
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
-#ifndef SIGMA_SHADOW_MOTION_HISTORY_PIXELS
-#define SIGMA_SHADOW_MOTION_HISTORY_PIXELS 0.05
-#endif
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
@@ -163,8 +161,7 @@ void main()
         return;
     }
 
-    // The light moved since the previous frame (Source/Sigma.cpp; uniform over the dispatch).
-    bool isLightMoving = gShadowMotionPerPenumbra > 0.0 || gLightMotionView.w != 0.0;
+    bool isLightMoving = _NRD_ShadowMotion_IsLightMoving();
     if (gl_LocalInvocationIndex == 0u)
     {
         s_ExpectedContradictions = 0u;
@@ -234,18 +231,8 @@ void main()
             for (int j = -1; j <= 1; j++)
                 for (int i = -1; i <= 1; i++)
                     widest = max(widest, s_Penumbra[c.y + j][c.x + i]);
-            float motionPerPenumbra = gShadowMotionPerPenumbra;
-            if (gLightMotionView.w != 0.0)
-            {
-            // A sphere light: a pixel's shadow moves by the light's displacement across the direction
-            // to it, over the light's radius, penumbra radii (distance to the light over the radius
-            // and the angle it turned by both scale with 1 / that distance).
-                vec3 toLight = gLightPositionView.xyz - _NRD_ViewPosition(_NRD_PixelUv(pixel), viewZ);
-                float distance = length(toLight);
-                vec3 across = distance > 0.0 ? cross(gLightMotionView.xyz, toLight / distance) : vec3(0.0);
-                motionPerPenumbra = min(length(across) * gLightPositionView.w, NRD_FP16_MAX);
-            }
-            shadowMotion = widest >= 0.0 ? widest * motionPerPenumbra : (motionPerPenumbra > 0.0 ? NRD_FP16_MAX : 0.0);
+            float motionPerPenumbra = _NRD_ShadowMotion_PerPenumbra(_NRD_ViewPosition(_NRD_PixelUv(pixel), viewZ));
+            shadowMotion = _NRD_ShadowMotion_Pixels(widest, motionPerPenumbra);
         }
 
         vec2 uv = _NRD_PixelUv(pixel);
@@ -514,12 +501,11 @@ void main()
                 antilag = 0.0;
         }
         historyLength = min(historyLength * antilag, gMaxStabilizedFrameNum);
-        // A hard shadow that the light's turn moves (gShadowMotionPerPenumbra: the same distance to
-        // the occluder sets the penumbra and the motion) keeps no more frames than hold
-        // SIGMA_SHADOW_MOTION_HISTORY_PIXELS of its motion: older ones are the shadow where it was.
+        // A hard shadow that the light's move carried (ShadowMotion.glsl) keeps no more frames than hold
+        // NRD_SHADOW_MOTION_HISTORY_PIXELS of its motion: older ones are the shadow where it was.
         if (isHardShadow && shadowMotion > 0.0)
         {
-            float keep = SIGMA_SHADOW_MOTION_HISTORY_PIXELS / shadowMotion;
+            float keep = _NRD_ShadowMotion_KeptFrames(shadowMotion);
             if (keep < 1.0)
                 isPassed = true;
             else

@@ -18,6 +18,7 @@
 #include "TiledShadow_Classify.resources.h"
 #include "CommonFrame.glsl"
 #include "TiledShadow_Common.glsl"
+#include "ShadowMotion.glsl"
 
 #define GROUP_SIZE 16
 #define GROUP_TILES_X 2 // GROUP_SIZE / TS_TILE_W
@@ -78,6 +79,10 @@
 #define TS_UNIFORM_BEFORE 0.02
 #define TS_GLOBAL_CHANGE 0.2
 #define TS_CLAMPED_SAMPLES 3.0
+// Moving lights (TS_SHADOW_DATA, Shaders/Include/ShadowMotion.glsl): a pixel whose 3x3 penumbra
+// radii (IN_SHADOWDATA's, of the shadowed samples) are all under this many pixels, or that has no
+// shadowed sample around, holds a hard shadow (SIGMA's: its kernel, 0.6 of the radius, under a pixel).
+#define TS_MOVING_HARD_PENUMBRA 0.5
 // A switch whose local mean rose by more than this starts from the 3x3 bits (see isSwitchedOn).
 #define TS_SWITCHED_ON 0.5
 // Temporal determinism: the raw samples of the 4x4 history footprint against this frame's at the same
@@ -479,6 +484,28 @@ void main()
         vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_Normal, gNearestClamp), pixel, 0)).xyz;
         vec3 mv = _NRD_Sanitize(texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, 0.0);
         vec3 Xv = _NRD_ViewPosition(uv, viewZ);
+        // Frames of history a hard shadow may keep after the light's move (ShadowMotion.glsl); below
+        // 1 it outputs its sample (at the end), the history going on as before.
+        float movedKeep = NRD_FP16_MAX;
+#if TS_SHADOW_DATA
+        if (_NRD_ShadowMotion_IsLightMoving())
+        {
+            float widest = -1.0; // Pixels; -1: no shadowed sample around.
+            for (int j = -1; j <= 1; j++)
+            {
+                for (int i = -1; i <= 1; i++)
+                {
+                    ivec2 q = clamp(pixel + ivec2(i, j), ivec2(0), ivec2(gResourceSize) - 1);
+                    float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y;
+                    // NaN, negative and lit (NRD_FP16_MAX) read as no penumbra.
+                    if (p >= 0.0 && p < NRD_FP16_MAX * 0.75)
+                        widest = max(widest, min(p * gProjectY, 16384.0));
+                }
+            }
+            if (widest < TS_MOVING_HARD_PENUMBRA)
+                movedKeep = _NRD_ShadowMotion_KeptFrames(_NRD_ShadowMotion_Pixels(widest, _NRD_ShadowMotion_PerPenumbra(Xv)));
+        }
+#endif
 
         // 2. Disocclusion. Previous clip position of the surface point: the camera motion through
         // the reprojection matrix, plus the object's own motion (world-space vectors), or the uv
@@ -659,6 +686,9 @@ void main()
             if (isSwitchedOn)
                 clamped = nearMean;
         }
+
+        if (movedKeep >= 1.0)
+            previousSamples = min(previousSamples, movedKeep);
 
         // 3. Reprojection: running moments of the raw samples (their mean clamped like the history
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
@@ -898,7 +928,8 @@ void main()
             temporalMean = sample0;
             samples = 1.0;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving)
+        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
+            movedKeep < 1.0)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 

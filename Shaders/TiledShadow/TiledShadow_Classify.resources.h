@@ -1,7 +1,11 @@
 // TILED_SHADOW tile classification (document 000, "Denoiser shadows tile classification"): local
 // neighbourhood moments from the bitmasks, disocclusion, reprojection, history clamp and blend.
 // One invocation per pixel; a group is 16x16 pixels = 2x4 tiles.
+#if TS_SHADOW_DATA
+NRD_PASS_BEGIN(TiledShadow_ClassifyShadowData, 16, 16)
+#else
 NRD_PASS_BEGIN(TiledShadow_Classify, 16, 16)
+#endif
 NRD_CONSTANTS_BEGIN
     NRD_COMMON_CONSTANTS
     NRD_CONSTANT(mat4, gClipToClipPrev)          // Current clip -> previous clip (double-precision product).
@@ -19,6 +23,9 @@ NRD_CONSTANTS_BEGIN
     NRD_CONSTANT(uint, gCounterSlot)             // Counter slot of this frame (0 or 1).
     NRD_CONSTANT(uint, gMethodFrame)             // Frames since creation, from 1.
     NRD_CONSTANT(float, gLocalMeanNoise)         // Standard error of the local mean per unit of sample sigma.
+    NRD_CONSTANT(float, gShadowMotionPerPenumbra) // The light's move since the previous frame
+    NRD_CONSTANT(vec4, gLightPositionView)       // (Shaders/Include/ShadowMotion.glsl; read by the
+    NRD_CONSTANT(vec4, gLightMotionView)         // TS_SHADOW_DATA variant).
 NRD_CONSTANTS_END
 NRD_INPUT_UINT(0, gIn_Mask)                      // Prepare's output or IN_SHADOW_BITMASK.
 NRD_INPUT(1, gIn_ViewZ)
@@ -30,4 +37,7 @@ NRD_INOUT_UINT(6, gOut_Moments, r32ui)           // Temporal mean and samples, p
 NRD_INOUT_UINT(7, gOut_TileClass, r32ui)         // One TS_TILE_* per tile.
 NRD_OUTPUT(8, gOut_Debug)                        // OUT_SHADOW_TRANSLUCENCY, written for debug views only.
 NRD_RW_BUFFER(9, gCounters, uint)                // TILED_SHADOW_COUNTERS_*, two slots.
+#if TS_SHADOW_DATA
+NRD_INPUT(10, gIn_ShadowData)                    // IN_SHADOWDATA: .y penumbra radius / viewZ (SIGMA_FrontEnd_PackShadow).
+#endif
 NRD_PASS_END

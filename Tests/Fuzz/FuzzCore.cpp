@@ -131,7 +131,7 @@ nrd::CommonSettings DecodeCommonSettings(FuzzedDataProvider& in, uint32_t frame)
     uint32_t edits = in.ConsumeIntegralInRange<uint32_t>(0, 4);
     for (uint32_t e = 0; e < edits; e++)
     {
-        switch (in.ConsumeIntegralInRange<uint8_t>(0, 13))
+        switch (in.ConsumeIntegralInRange<uint8_t>(0, 14))
         {
         case 0: s.viewToClipMatrix[in.ConsumeIntegralInRange<uint8_t>(0, 15)] = InterestingFloat(in); break;
         case 1: s.viewToClipMatrixPrev[in.ConsumeIntegralInRange<uint8_t>(0, 15)] = InterestingFloat(in); break;
@@ -204,14 +204,20 @@ nrd::TiledShadowSettings DecodeTiledShadow(FuzzedDataProvider& in)
         s = DecodeRaw<nrd::TiledShadowSettings>(in);
         s.isBitmaskInput = in.ConsumeBool(); // A bool other than 0 / 1 is the caller's UB.
         s.enableTileSkipping = in.ConsumeBool();
+        s.isShadowDataInput = in.ConsumeBool();
         return s;
     }
     uint32_t edits = in.ConsumeIntegralInRange<uint32_t>(0, 4);
     for (uint32_t e = 0; e < edits; e++)
     {
-        switch (in.ConsumeIntegralInRange<uint8_t>(0, 9))
+        switch (in.ConsumeIntegralInRange<uint8_t>(0, 14))
         {
         case 0: s.isBitmaskInput = in.ConsumeBool(); break;
+        case 9: s.isShadowDataInput = in.ConsumeBool(); break;
+        case 10: s.lightDirection[in.ConsumeIntegralInRange<uint8_t>(0, 2)] = InterestingFloat(in); break;
+        case 11: s.tanOfLightAngularRadius = InterestingFloat(in); break;
+        case 12: s.lightPosition[in.ConsumeIntegralInRange<uint8_t>(0, 2)] = InterestingFloat(in); break;
+        case 13: s.lightRadius = InterestingFloat(in); break;
         case 1: s.enableTileSkipping = in.ConsumeBool(); break;
         case 2: s.neighborhoodRadius = InterestingUint(in); break;
         case 3: s.historyClampSigma = InterestingFloat(in); break;
