@@ -83,6 +83,9 @@
 // radii (IN_SHADOWDATA's, of the shadowed samples) are all under this many pixels, or that has no
 // shadowed sample around, holds a hard shadow (SIGMA's: its kernel, 0.6 of the radius, under a pixel).
 #define TS_MOVING_HARD_PENUMBRA 0.5
+// The other pixels (soft shadows, left to the filter) keep at most a quarter of their penumbra radius
+// of the light's motion in their history.
+#define TS_MOVING_SOFT_RADII 0.25
 // A switch whose local mean rose by more than this starts from the 3x3 bits (see isSwitchedOn).
 #define TS_SWITCHED_ON 0.5
 // Temporal determinism: the raw samples of the 4x4 history footprint against this frame's at the same
@@ -485,8 +488,10 @@ void main()
         vec3 mv = _NRD_Sanitize(texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, 0.0);
         vec3 Xv = _NRD_ViewPosition(uv, viewZ);
         // Frames of history a hard shadow may keep after the light's move (ShadowMotion.glsl); below
-        // 1 it outputs its sample (at the end), the history going on as before.
+        // 1 it outputs its sample (at the end), the history going on as before. A soft one's
+        // (TS_MOVING_SOFT_RADII), below 1 none: the filter alone.
         float movedKeep = NRD_FP16_MAX;
+        float softKeep = NRD_FP16_MAX;
 #if TS_SHADOW_DATA
         if (_NRD_ShadowMotion_IsLightMoving())
         {
@@ -502,8 +507,11 @@ void main()
                         widest = max(widest, min(p * gProjectY, 16384.0));
                 }
             }
+            float perPenumbra = _NRD_ShadowMotion_PerPenumbra(Xv);
             if (widest < TS_MOVING_HARD_PENUMBRA)
-                movedKeep = _NRD_ShadowMotion_KeptFrames(_NRD_ShadowMotion_Pixels(widest, _NRD_ShadowMotion_PerPenumbra(Xv)));
+                movedKeep = _NRD_ShadowMotion_KeptFrames(_NRD_ShadowMotion_Pixels(widest, perPenumbra));
+            else if (perPenumbra > 0.0)
+                softKeep = TS_MOVING_SOFT_RADII / perPenumbra;
         }
 #endif
 
@@ -688,7 +696,7 @@ void main()
         }
 
         if (movedKeep >= 1.0)
-            previousSamples = min(previousSamples, movedKeep);
+            previousSamples = min(previousSamples, min(movedKeep, softKeep));
 
         // 3. Reprojection: running moments of the raw samples (their mean clamped like the history
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
