@@ -87,7 +87,9 @@ struct SigmaSettings
     // - a sphere light: its world-space position and radius, (0, 1e6]; a move moves each shadow by the
     //   light's displacement across the direction to it, over the radius, penumbra radii.
     // 0 (the defaults) means unknown: the history is left to the neighbourhood rules alone. The
-    // sphere light wins where both are set.
+    // sphere light wins where both are set. One light: where IN_SHADOWDATA packs several
+    // (SIGMA_FrontEnd_MultiLight*), the shadows of the others would be taken for moving ones; leave
+    // these at 0 unless they all move together.
     float tanOfLightAngularRadius = 0.0f;
     float lightPosition[3] = {0.0f, 0.0f, 0.0f};
     float lightRadius = 0.0f;

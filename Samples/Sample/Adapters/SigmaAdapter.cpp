@@ -47,9 +47,11 @@ public:
     void ApplyFrameSettings(nrd::Integration& integration, nrd::Identifier id, const FrameData& frame) override
     {
         memcpy(m_Settings.lightDirection, frame.light.direction, sizeof(m_Settings.lightDirection));
-        m_Settings.tanOfLightAngularRadius = std::min(frame.light.tanOfLightAngularRadius, 1.0f);
+        // The moving light: the shadow light's. The translucency signal packs every light together,
+        // whose shadows do not all move with it: unknown there.
+        m_Settings.tanOfLightAngularRadius = m_Translucency ? 0.0f : std::min(frame.light.tanOfLightAngularRadius, 1.0f);
         memcpy(m_Settings.lightPosition, frame.light.position, sizeof(m_Settings.lightPosition));
-        m_Settings.lightRadius = frame.light.type == LightType::SPHERE ? frame.light.radius : 0.0f;
+        m_Settings.lightRadius = !m_Translucency && frame.light.type == LightType::SPHERE ? frame.light.radius : 0.0f;
         integration.SetMethodSettings(id, m_Settings);
     }
 
