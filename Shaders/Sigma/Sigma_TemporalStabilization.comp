@@ -11,7 +11,9 @@
 // no resampling (where it does, only a lit sample whose previous samples were mostly dark takes some
 // of it), and restart it where a shadow arrives or leaves; in a tile where hard shadows
 // moved without motion vectors (many samples contradict settled histories, both ways) their pixels
-// output this frame's sample. History = this frame's result, stored with its viewZ, history length,
+// output this frame's sample, and so do hard shadows that the light's own move carried more than
+// 1/20 pixel (SigmaSettings' moving lights; fewer frames of history for slower ones). History = this
+// frame's result, stored with its viewZ, history length,
 // whether this frame's sample was lit, whether a hard shadow's departure restarted it, whether
 // its tile was moving and whether the sample was lit in the frame before too (viewZ bits with the 5
 // low bits replaced by the length, bit 5 by the sample, bit 6 by the restart, bit 7 by the moving
@@ -213,7 +215,7 @@ void main()
     bool isResampledHard = false;
     float tapLit = 0.0;
     float kernelRadius = 0.0;
-    float shadowMotion = 0.0; // pixels this frame, from the light's turn
+    float shadowMotion = 0.0; // Pixels the light's move carried the shadow this frame (ShadowMotion.glsl).
     if (viewZ != 0.0)
     {
         // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
