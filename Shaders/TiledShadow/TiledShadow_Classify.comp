@@ -12,6 +12,8 @@
 //      edge mean +- 0.5 sigma would exclude the truth), blend toward the current sample by history
 //      length.
 // Tiles whose 3x5-tile neighbourhood is uniformly lit or shadowed skip 2 and 3 (and the filter).
+// The TS_SHADOW_DATA variant (TiledShadowSettings::isShadowDataInput) also reads IN_SHADOWDATA's
+// penumbrae: shadows that the light's own move carried keep little history (TS_MOVING_*).
 // Group: 16x16 pixels = 2x4 tiles; shared memory only, so any subgroup size works.
 
 #include "Bindings.glsl"
