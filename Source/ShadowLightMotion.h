@@ -135,4 +135,21 @@ private:
     uint32_t m_FrameIndex = 0;
 };
 
+// The light fields of a shadow denoiser's settings (lightDirection, tanOfLightAngularRadius,
+// lightPosition, lightRadius: SigmaSettings, TiledShadowSettings) into its pass constants
+// (gShadowMotionPerPenumbra, gLightPositionView, gLightMotionView).
+template <class Settings, class Constants>
+void SetShadowLightMotion(ShadowLightMotion& motion, const Settings& s, const FrameData& frame, Constants& c)
+{
+    ShadowLightDesc light;
+    light.direction = s.lightDirection;
+    light.tanOfAngularRadius = s.tanOfLightAngularRadius;
+    light.position = s.lightPosition;
+    light.radius = s.lightRadius;
+    ShadowLightMotionConstants m = motion.Update(light, frame.common.frameIndex, frame.resetHistory, frame.common.worldToViewMatrix);
+    c.gShadowMotionPerPenumbra = m.motionPerPenumbra;
+    c.gLightPositionView = m.lightPositionView;
+    c.gLightMotionView = m.lightMotionView;
+}
+
 } // namespace nrd

@@ -197,16 +197,7 @@ public:
         c.gBlurRadiusScale = m_Settings.blurRadiusScale * kKernelRadiusPerPenumbraRadius;
         c.gPlaneDistanceSensitivity = m_Settings.planeDistanceSensitivity;
         c.gMaxStabilizedFrameNum = float(m_Settings.maxStabilizedFrameNum);
-        ShadowLightDesc light;
-        light.direction = m_Settings.lightDirection;
-        light.tanOfAngularRadius = m_Settings.tanOfLightAngularRadius;
-        light.position = m_Settings.lightPosition;
-        light.radius = m_Settings.lightRadius;
-        ShadowLightMotionConstants motion =
-            m_LightMotion.Update(light, frame.common.frameIndex, frame.resetHistory, frame.common.worldToViewMatrix);
-        c.gShadowMotionPerPenumbra = motion.motionPerPenumbra;
-        c.gLightPositionView = motion.lightPositionView;
-        c.gLightMotionView = motion.lightMotionView;
+        SetShadowLightMotion(m_LightMotion, m_Settings, frame, c);
 
         // One constant block serves all passes (same layout, checked above).
         context.Dispatch(m_Classify, Cast<typename P::ClassifyTiles::Constants>(c), frame.width, frame.height);

@@ -182,16 +182,7 @@ public:
         c.gMethodFrame = m_MethodFrame;
         if (s.isShadowDataInput)
         {
-            ShadowLightDesc light;
-            light.direction = s.lightDirection;
-            light.tanOfAngularRadius = s.tanOfLightAngularRadius;
-            light.position = s.lightPosition;
-            light.radius = s.lightRadius;
-            ShadowLightMotionConstants motion =
-                m_LightMotion.Update(light, frame.common.frameIndex, frame.resetHistory, frame.common.worldToViewMatrix);
-            c.gShadowMotionPerPenumbra = motion.motionPerPenumbra;
-            c.gLightPositionView = motion.lightPositionView;
-            c.gLightMotionView = motion.lightMotionView;
+            SetShadowLightMotion(m_LightMotion, s, frame, c);
         }
         context.Dispatch(m_Classify[(s.isShadowDataInput ? 2 : 0) + (s.isBitmaskInput ? 1 : 0)], c, frame.width, frame.height);
 

@@ -835,16 +835,19 @@ TEST_CASE("SIGMA leaves no light behind in the umbra of a hard shadow that moves
     CHECK(context->ValidationMessageCount() == 0);
 }
 
-TEST_CASE("SIGMA keeps no history of hard shadows that a turning light moves", "[vulkan][sigma]")
+TEST_CASE("SIGMA keeps no history of hard shadows that a moving light carries", "[vulkan][sigma]")
 {
     // A hard shadow edge (penumbra radius 0.3 pixel) that moves 0.25 pixel a frame without motion
-    // vectors, as under a turning sun. With SigmaSettings::tanOfLightAngularRadius and a lightDirection
-    // that turns by tan(turn) = 0.00833 a frame against tan(radius) = 0.01, the denoiser knows the
-    // shadows move 0.833 penumbra radii (0.25 pixel) a frame: every pixel outputs its sample. The same
-    // frames with the light's size unknown, or with a light that does not turn, keep history.
+    // vectors. The light moves 0.833 penumbra radii a frame: an infinite light turning by tan 0.00833
+    // a frame under tan(radius) 0.01 (SigmaSettings::tanOfLightAngularRadius and a lightDirection
+    // that turns), or a sphere light of radius 0.1, five units above and in front of the plane, moving
+    // 0.12 a frame along +x (about 1.2 radii across the direction to the pixels): every pixel outputs
+    // its sample. The same frames with the light's size unknown, or with a light that stays, keep
+    // history.
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
-    auto run = [&](float tanRadius, float tanTurn, size_t& changed)
+    enum class Light { INFINITE, SPHERE };
+    auto run = [&](Light type, float size, float step, size_t& changed)
     {
         Scene scene;
         scene.width = 64;
@@ -855,77 +858,35 @@ TEST_CASE("SIGMA keeps no history of hard shadows that a turning light moves", "
         changed = 0;
         for (uint32_t frame = 0; frame < 8; frame++)
         {
-            float angle = std::atan(tanTurn) * float(frame);
             SigmaSettings settings = {};
-            settings.lightDirection[0] = std::sin(angle);
-            settings.lightDirection[1] = std::cos(angle);
-            settings.tanOfLightAngularRadius = tanRadius;
+            test::SetMovingTestLight(settings, type == Light::INFINITE, size, step, frame, kPlaneViewZ);
             REQUIRE(rig.integration.SetMethodSettings(SIGMA_ID, settings) == Result::SUCCESS);
             rig.scene.edgeOffset = 0.25f * float(frame);
-            FrameData f = MakeFrame(rig.scene, 13000 + frame);
+            FrameData f = MakeFrame(rig.scene, (type == Light::INFINITE ? 13000 : 14000) + frame);
             std::vector<float> output = rig.Frame(frame, f);
             REQUIRE(AllFinite(output));
             if (frame == 0)
-                continue; // No previous direction yet.
+                continue; // No previous light yet.
             for (size_t i = 0; i < output.size(); i += 4)
                 changed += std::abs(output[i] - f.noisy[i]) > 1e-3f;
         }
     };
-    size_t turning = 0, unknownSize = 0, still = 0;
-    run(0.01f, 0.00833f, turning);
-    run(0.0f, 0.00833f, unknownSize);
-    run(0.01f, 0.0f, still);
-    INFO("pixels unlike their sample over 7 frames: turning light " << turning << ", light of unknown size " << unknownSize
-                                                                     << ", still light " << still);
+    size_t turning = 0, moving = 0, unknownSize = 0, unknownRadius = 0, stillSun = 0, stillLamp = 0;
+    run(Light::INFINITE, 0.01f, 0.00833f, turning);
+    run(Light::SPHERE, 0.1f, 0.12f, moving);
+    run(Light::INFINITE, 0.0f, 0.00833f, unknownSize);
+    run(Light::SPHERE, 0.0f, 0.12f, unknownRadius);
+    run(Light::INFINITE, 0.01f, 0.0f, stillSun);
+    run(Light::SPHERE, 0.1f, 0.0f, stillLamp);
+    INFO("pixels unlike their sample over 7 frames: turning light " << turning << ", moving sphere light " << moving
+                                                                     << ", sizes unknown " << unknownSize << " and " << unknownRadius
+                                                                     << ", still lights " << stillSun << " and " << stillLamp);
     CHECK(turning == 0);
-    CHECK(unknownSize >= 10); // 29 on lavapipe
-    CHECK(still >= 10);
-    CHECK(context->ValidationMessageCount() == 0);
-}
-
-TEST_CASE("SIGMA keeps no history of hard shadows that a moving sphere light moves", "[vulkan][sigma]")
-{
-    // The edge of the test above (penumbra radius 0.3 pixel, 0.25 pixel a frame) under a sphere light
-    // of radius 0.1 five units above and in front of the plane that moves 0.12 a frame along +x: across
-    // the direction to the pixels that is about 1.2 radii, the shadows 0.36 pixel: every pixel outputs
-    // its sample. A light of radius 0 (unknown) and a light that stays keep history.
-    auto context = test::CreateValidatedContext();
-    REQUIRE(context);
-    auto run = [&](float radius, float step, size_t& changed)
-    {
-        Scene scene;
-        scene.width = 64;
-        scene.height = 64;
-        scene.penumbraRadius = 0.3f;
-        SigmaRig rig(*context, Method::SIGMA_SHADOW, scene);
-        rig.Create();
-        changed = 0;
-        for (uint32_t frame = 0; frame < 8; frame++)
-        {
-            SigmaSettings settings = {};
-            settings.lightPosition[0] = step * float(frame);
-            settings.lightPosition[1] = -5.0f;
-            settings.lightPosition[2] = kPlaneViewZ - 5.0f;
-            settings.lightRadius = radius;
-            REQUIRE(rig.integration.SetMethodSettings(SIGMA_ID, settings) == Result::SUCCESS);
-            rig.scene.edgeOffset = 0.25f * float(frame);
-            FrameData f = MakeFrame(rig.scene, 14000 + frame);
-            std::vector<float> output = rig.Frame(frame, f);
-            REQUIRE(AllFinite(output));
-            if (frame == 0)
-                continue; // No previous position yet.
-            for (size_t i = 0; i < output.size(); i += 4)
-                changed += std::abs(output[i] - f.noisy[i]) > 1e-3f;
-        }
-    };
-    size_t moving = 0, unknownSize = 0, still = 0;
-    run(0.1f, 0.12f, moving);
-    run(0.0f, 0.12f, unknownSize);
-    run(0.1f, 0.0f, still);
-    INFO("pixels unlike their sample over 7 frames: moving light " << moving << ", light of unknown size " << unknownSize
-                                                                    << ", still light " << still);
     CHECK(moving == 0);
+    // 29 and 26 on lavapipe.
     CHECK(unknownSize >= 10);
-    CHECK(still >= 10);
+    CHECK(unknownRadius >= 10);
+    CHECK(stillSun >= 10);
+    CHECK(stillLamp >= 10);
     CHECK(context->ValidationMessageCount() == 0);
 }

@@ -1106,20 +1106,7 @@ TEST_CASE("TILED_SHADOW keeps no history of hard shadows that a moving light car
         changed = 0;
         for (uint32_t frame = 0; frame < 8; frame++)
         {
-            if (type == Light::INFINITE)
-            {
-                float angle = std::atan(step) * float(frame);
-                settings.lightDirection[0] = std::sin(angle);
-                settings.lightDirection[1] = std::cos(angle);
-                settings.tanOfLightAngularRadius = size;
-            }
-            else
-            {
-                settings.lightPosition[0] = step * float(frame);
-                settings.lightPosition[1] = -5.0f;
-                settings.lightPosition[2] = kPlaneViewZ - 5.0f;
-                settings.lightRadius = size;
-            }
+            test::SetMovingTestLight(settings, type == Light::INFINITE, size, step, frame, kPlaneViewZ);
             rig.SetSettings(settings);
             scene.edgeOffset = 0.25f * float(frame);
             Inputs in = scene.Make(15000 + frame);

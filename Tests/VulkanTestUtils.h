@@ -243,5 +243,28 @@ inline std::vector<float> RunBufferShader(lab::VulkanContext& context, const uin
     return results;
 }
 
+// The light of the shadow denoisers' moving-light tests (SigmaSettings, TiledShadowSettings) on
+// frame 'frame': an infinite light turning by atan(step) a frame with tan(angular radius) 'size', or
+// a sphere light of radius 'size' five units above and in front of the plane at depth 'planeViewZ'
+// (the still camera's), moving 'step' a frame along +x.
+template <class Settings>
+void SetMovingTestLight(Settings& s, bool isInfinite, float size, float step, uint32_t frame, float planeViewZ)
+{
+    if (isInfinite)
+    {
+        float angle = std::atan(step) * float(frame);
+        s.lightDirection[0] = std::sin(angle);
+        s.lightDirection[1] = std::cos(angle);
+        s.tanOfLightAngularRadius = size;
+    }
+    else
+    {
+        s.lightPosition[0] = step * float(frame);
+        s.lightPosition[1] = -5.0f;
+        s.lightPosition[2] = planeViewZ - 5.0f;
+        s.lightRadius = size;
+    }
+}
+
 } // namespace test
 } // namespace nrd
