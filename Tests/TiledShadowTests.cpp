@@ -1139,3 +1139,71 @@ TEST_CASE("TILED_SHADOW keeps no history of hard shadows that a moving light car
     CHECK(still >= 10);
     CHECK(context->ValidationMessageCount() == 0);
 }
+
+TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a settled lit history", "[vulkan]")
+{
+    // Still camera, IN_SHADOWDATA bound: diagonal lines of shadow moving every 3 frames keep the tiles
+    // filtered, and a grid of isolated pixels is lit on frames 0-9 (settled). On frame 10 the grid is
+    // shadowed, with no shadowed neighbour: group A's samples report a penumbra radius of 0.1 pixel
+    // (hard: exact, TS_HARD_ARRIVAL_PENUMBRA) and are output as sampled; group B's report 2 pixels (a
+    // soft shadow's noise is as likely) and keep their lit history.
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    const uint32_t w = 64, h = 48;
+    TiledShadowRig rig(*context);
+    TiledShadowSettings settings = {};
+    settings.isShadowDataInput = true;
+    rig.Create(w, h, settings);
+    auto isGrid = [](uint32_t x, uint32_t y) { return x % 8 == 4 && y % 8 == 4; };
+    auto isGroupA = [](uint32_t x, uint32_t y) { return ((x / 8) + (y / 8)) % 2 == 0; };
+    auto radius = [&](float pixels) { return pixels / (0.5f * float(h)); }; // Radius / viewZ, |P11| = 1.
+    std::vector<float> out;
+    for (uint32_t frame = 0; frame < 11; frame++)
+    {
+        Inputs in(w, h);
+        in.shadowData.resize(in.visibility.size() * 2);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+            {
+                // The lines avoid the grid's 3x3 neighbourhoods.
+                bool isNearGrid = x % 8 >= 3 && x % 8 <= 5 && y % 8 >= 3 && y % 8 <= 5;
+                float v = (x + 2 * y + frame / 3) % 4 == 0 && !isNearGrid ? 0.0f : 1.0f;
+                float penumbra = 2.0f;
+                if (isGrid(x, y))
+                {
+                    v = frame < 10 ? 1.0f : 0.0f;
+                    penumbra = isGroupA(x, y) ? 0.1f : 2.0f;
+                }
+                size_t i = size_t(y) * w + x;
+                in.visibility[i] = v;
+                in.shadowData[i * 2 + 0] = v;
+                in.shadowData[i * 2 + 1] = v > 0.5f ? 65504.0f : radius(penumbra);
+            }
+        out = rig.Frame(frame, in);
+        REQUIRE(CountNonFinite(out) == 0);
+    }
+    uint32_t numA = 0, numB = 0, exactA = 0, heldB = 0;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+        {
+            if (!isGrid(x, y))
+                continue;
+            float v = out[size_t(y) * w + x];
+            if (isGroupA(x, y))
+            {
+                numA++;
+                exactA += v == 0.0f ? 1u : 0u;
+            }
+            else
+            {
+                numB++;
+                heldB += v >= 0.5f ? 1u : 0u;
+            }
+        }
+    INFO("hard samples output 0: " << exactA << " of " << numA << "; soft samples held at 0.5 or more: " << heldB << " of " << numB);
+    REQUIRE(numA >= 10);
+    REQUIRE(numB >= 10);
+    CHECK(exactA == numA);
+    CHECK(heldB == numB);
+    CHECK(context->ValidationMessageCount() == 0);
+}

@@ -117,6 +117,17 @@
 // shadow are left to the rules above: a false light in an umbra costs a hundred times more in
 // relMSE, and the same test for them cost the still scenes up to 15% at 256x256.
 #define TS_PERSISTENT_NEIGHBORS 1
+// TS_SHADOW_DATA: a shadowed sample whose own penumbra radius (IN_SHADOWDATA) is under this many
+// pixels is exact but within that distance of the shadow's edge (the lab's samples, like most
+// engines', lie on the pixel centre or its jittered position). Such a sample in a still view
+// - under a settled lit texel (TS_SETTLED: every recent sample lit) is output as it is: a hard shadow
+//   arrived, or a pixel whose truth is nearly lit drew a shadowed sample; the first costs about a
+//   hundred times more when mistaken (relMSE of a lit history on a dark truth), and is the common one
+//   where a thin occluder moves (the spider's legs of mesh_thin, 1 to 2 pixels wide, with no
+//   shadowed neighbour to pass TS_PERSISTENT_NEIGHBORS). The history goes on unchanged.
+// - shadowed again on the next frame restarts like isPersistent's, without its shadowed neighbour.
+// (Measured in Shaders/TiledShadow/README.md, "Hard shadows that arrive".)
+#define TS_HARD_ARRIVAL_PENUMBRA 0.25
 #define TS_MOVED_CONTRADICTIONS 2
 #define TS_MOVED_CONTRADICTIONS_LIT 3
 #define TS_MOVED_LIT_NEIGHBORS 3
@@ -854,8 +865,15 @@ void main()
         }
         // TS_PERSISTENT_NEIGHBORS: the pixel's own samples say the shadow arrived, where the settled
         // texels of its footprint are too few to tell (a thin shadow, the leading edge of a stripe).
+#if TS_SHADOW_DATA
+        // NaN reads as not hard; lit samples carry NRD_FP16_MAX.
+        bool isHardSample = sample0 == 0.0 &&
+                            texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), pixel, 0).y * gProjectY < TS_HARD_ARRIVAL_PENUMBRA;
+#else
+        const bool isHardSample = false;
+#endif
         isPersistent = !isDisoccluded && !isMoving && !isSwitched && sample0 == 0.0 && isCentreUnchanged && history.x > 0.5 &&
-                       history.z >= TS_SETTLED_SAMPLES && shadowedNeighbors >= TS_PERSISTENT_NEIGHBORS &&
+                       history.z >= TS_SETTLED_SAMPLES && (shadowedNeighbors >= TS_PERSISTENT_NEIGHBORS || isHardSample) &&
                        history.y >= 1.0 - 1.25 / max(history.z, 1.0) - TS_SETTLED;
         if (isPersistent)
         {
@@ -938,7 +956,11 @@ void main()
             temporalMean = sample0;
             samples = 1.0;
         }
-        if ((isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
+        // TS_HARD_ARRIVAL_PENUMBRA: a hard shadowed sample under the settled lit texel nearest to it.
+        int nearest = 4 * nearestK.y + nearestK.x;
+        bool isHardArrival = isHardSample && !isDisoccluded && !isMoving && ((footprintBits >> uint(nearest)) & 1u) != 0u &&
+                             ((previousBits >> uint(nearest)) & 0x10001u) == 0x10001u;
+        if (isHardArrival || (isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
             movedKeep < 1.0)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
