@@ -54,6 +54,8 @@
 // HARD_SHADOW_RESAMPLED_BLEND of the history (see main).
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
+// Depth tolerance of the Catmull-Rom footprint's outer taps, relative to the bilinear taps'.
+#define CATMULL_ROM_OUTER_TOLERANCE 2.0
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
@@ -90,8 +92,11 @@ SIGMA_TYPE LoadHistory(ivec2 pixel)
 
 // Catmull-Rom resampling of the previous history around the bilinear footprint 'origin' + 'f'
 // (taps outside the image are clamped to it); the 4 corner taps, whose weights are tiny, are left
-// out and the rest renormalized. Clamped to [0, 1] against ringing.
-SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
+// out and the rest renormalized. Clamped to [0, 1] against ringing. False (and 'result' untouched)
+// where one of the 8 outer taps holds another surface or no history (sky, never written: its
+// value is undefined) by the disocclusion test, with CATMULL_ROM_OUTER_TOLERANCE times the
+// tolerance (the outer taps lie up to 2 pixels away); the caller keeps its bilinear history.
+bool CatmullRomHistory(ivec2 origin, vec2 f, float expectedViewZ, float tolerance, inout SIGMA_TYPE result)
 {
     vec4 wx = _NRD_CatmullRomWeights(f.x);
     vec4 wy = _NRD_CatmullRomWeights(f.y);
@@ -102,14 +107,23 @@ SIGMA_TYPE CatmullRomHistory(ivec2 origin, vec2 f)
     {
         for (int i = 0; i < 4; i++)
         {
-            if ((i == 0 || i == 3) && (j == 0 || j == 3))
+            bool isOuterI = i == 0 || i == 3, isOuterJ = j == 0 || j == 3;
+            if (isOuterI && isOuterJ)
                 continue;
+            ivec2 q = clamp(origin + ivec2(i - 1, j - 1), ivec2(0), maxPixel);
+            if (isOuterI || isOuterJ) // The inner 2x2 passed the test already.
+            {
+                uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
+                if (!(abs(uintBitsToFloat(packed & HISTORY_VIEWZ_MASK) - expectedViewZ) <= CATMULL_ROM_OUTER_TOLERANCE * tolerance))
+                    return false;
+            }
             float w = wx[i] * wy[j];
-            sum += LoadHistory(clamp(origin + ivec2(i - 1, j - 1), ivec2(0), maxPixel)) * w;
+            sum += LoadHistory(q) * w;
             weightSum += w;
         }
     }
-    return _Sigma_Signal01(sum / weightSum);
+    result = _Sigma_Signal01(sum / weightSum);
+    return true;
 }
 
 uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving, bool isLitTwice)
@@ -154,7 +168,10 @@ void main()
             return;
         float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x;
         if (mode == SIGMA_MODE_SKY || _NRD_IsSky(z))
+        {
             imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(kNoHistory));
+            imageStore(gHistory_Shadow, pixel, vec4(0.0));
+        }
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
@@ -216,6 +233,8 @@ void main()
     float tapLit = 0.0;
     float kernelRadius = 0.0;
     float shadowMotion = 0.0; // Pixels the light's move carried the shadow this frame (ShadowMotion.glsl).
+    float expectedViewZ = 0.0; // The surface's viewZ in the previous frame, and the disocclusion test's tolerance.
+    float tolerance = 0.0;
     if (viewZ != 0.0)
     {
         // Hard shadow: a kernel under a pixel (the blurs copied it or barely changed it). The input is
@@ -276,12 +295,12 @@ void main()
         vec3 mv = texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz;
         vec3 Xprev;
         vec2 uvPrev = _NRD_PreviousUv(uv, X, mv, Xprev);
-        float expectedViewZ = _NRD_PreviousViewZ(Xprev);
+        expectedViewZ = _NRD_PreviousViewZ(Xprev);
 
         // Disocclusion tolerance: relative depth, plus the depth change across the one pixel that
         // separates a bilinear tap from the reprojected point on a surface seen at a grazing angle.
         float NoV = abs(dot(Nv, normalize(Xv)));
-        float tolerance = _NRD_DisocclusionTolerance(viewZ, expectedViewZ, NoV, gDisocclusionThreshold, gProjectY);
+        tolerance = _NRD_DisocclusionTolerance(viewZ, expectedViewZ, NoV, gDisocclusionThreshold, gProjectY);
 
         // Bilinear footprint with per-tap disocclusion test.
         vec2 footprint = uvPrev * vec2(gResourceSize) - 0.5;
@@ -402,6 +421,7 @@ void main()
     if (viewZ == 0.0)
     {
         imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(kNoHistory));
+        imageStore(gHistory_Shadow, pixel, vec4(0.0)); // Never read (kNoHistory), but defined.
         return; // Sky: output not written.
     }
 
@@ -439,7 +459,7 @@ void main()
         // dropped) instead: repeated bilinear resampling under camera motion blurs the history a
         // little more every frame, which shows on sharp shadow edges.
         if (historyWeight > 0.999 && !isHardShadow)
-            history = CatmullRomHistory(origin, f);
+            CatmullRomHistory(origin, f, expectedViewZ, tolerance, history);
 
         // Soft shadows: mean +- sigma of the blurred frame. Hard shadows: the 3x3 range of the
         // (exact away from edges) input, so a shadow that moved leaves nothing outside the pixel
