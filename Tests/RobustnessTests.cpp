@@ -1161,12 +1161,7 @@ private:
                     WARN("a pool texture in R11_G11_B10_UFLOAT is not read back (no converter)");
                     continue;
                 }
-                lab::LabTexture view;
-                view.texture = image.texture;
-                view.format = format;
-                view.width = image.width;
-                view.height = image.height;
-                view.state = image.state;
+                lab::LabTexture view = test::PoolTextureView(image);
                 std::vector<float> pixels;
                 REQUIRE(m_Context.ReadbackTexture(view, pixels) == VK_SUCCESS);
                 if (pool == ResourceType::TRANSIENT_POOL)

@@ -925,18 +925,7 @@ TEST_CASE("SIGMA reads no history of the sky under motion", "[vulkan][sigma]")
                     for (uint32_t x = 0; x < image.width && scene.IsSky(x, y); x++)
                         for (uint32_t c = 0; c < channels; c++)
                             pixels[(size_t(y) * image.width + x) * channels + c] = 0.8125f;
-                lab::LabTexture view;
-                view.texture = image.texture;
-                view.format = format;
-                view.width = image.width;
-                view.height = image.height;
-                view.state = image.state;
-                REQUIRE(context->UploadTexture(view, pixels.data(), rhi::Layout::GENERAL) == VK_SUCCESS);
-                VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
-                REQUIRE(context->BeginCommands(commandBuffer) == VK_SUCCESS);
-                rhi::TextureBarrier back = {image.texture, view.state, image.state};
-                context->GetDevice().CmdBarrier(rhi::GetCommandBuffer(commandBuffer), {nullptr, 0, nullptr, 0, &back, 1});
-                REQUIRE(context->SubmitAndWait(commandBuffer) == VK_SUCCESS);
+                test::WritePoolTexture(*context, rig.integration, ResourceType::PERMANENT_POOL, k, pixels);
             }
             // 2D motion vectors of a sub-pixel motion on both axes (uvPrev = uv + mv): every tap of the
             // Catmull-Rom footprint has a weight.

@@ -972,6 +972,51 @@ TEST_CASE("TILED_SHADOW treats the image border like the inside under camera mot
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+namespace
+{
+
+// The grid of isolated pixels of the arrival tests (every 8th pixel on both axes, offset 4) in two
+// groups of 8x8 blocks on a checkerboard.
+bool IsArrivalGrid(uint32_t x, uint32_t y) { return x % 8 == 4 && y % 8 == 4; }
+bool IsArrivalGroupA(uint32_t x, uint32_t y) { return ((x / 8) + (y / 8)) % 2 == 0; }
+
+// Over the grid: how many pixels of group A output exactly 0, how many of group B 0.5 or more, and
+// each group's count and mean output.
+struct ArrivalCount
+{
+    uint32_t numA = 0, numB = 0, exactA = 0, heldB = 0;
+    double meanA = 0.0, meanB = 0.0;
+};
+
+ArrivalCount CountArrivalGrid(const std::vector<float>& out, uint32_t w, uint32_t h)
+{
+    ArrivalCount c;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+        {
+            if (!IsArrivalGrid(x, y))
+                continue;
+            float v = out[size_t(y) * w + x];
+            if (IsArrivalGroupA(x, y))
+            {
+                c.numA++;
+                c.exactA += v == 0.0f ? 1u : 0u;
+                c.meanA += v;
+            }
+            else
+            {
+                c.numB++;
+                c.heldB += v >= 0.5f ? 1u : 0u;
+                c.meanB += v;
+            }
+        }
+    c.meanA /= std::max(c.numA, 1u);
+    c.meanB /= std::max(c.numB, 1u);
+    return c;
+}
+
+} // namespace
+
 TEST_CASE("TILED_SHADOW follows a pixel's own samples when a shadow arrives where nothing around it is settled", "[vulkan]")
 {
     // Still camera: a quarter of the pixels shadowed in diagonal lines that move every 3 frames, and a
@@ -986,8 +1031,6 @@ TEST_CASE("TILED_SHADOW follows a pixel's own samples when a shadow arrives wher
     const uint32_t w = 64, h = 48;
     TiledShadowRig rig(*context);
     rig.Create(w, h);
-    auto isGrid = [](uint32_t x, uint32_t y) { return x % 8 == 4 && y % 8 == 4; };
-    auto isGroupA = [](uint32_t x, uint32_t y) { return ((x / 8) + (y / 8)) % 2 == 0; };
     std::vector<float> out;
     for (uint32_t frame = 0; frame < 12; frame++)
     {
@@ -996,41 +1039,21 @@ TEST_CASE("TILED_SHADOW follows a pixel's own samples when a shadow arrives wher
             for (uint32_t x = 0; x < w; x++)
             {
                 float v = (x + 2 * y + frame / 3) % 4 == 0 ? 0.0f : 1.0f;
-                if (isGrid(x, y))
-                    v = frame < 10 || (frame == 11 && !isGroupA(x, y)) ? 1.0f : 0.0f;
+                if (IsArrivalGrid(x, y))
+                    v = frame < 10 || (frame == 11 && !IsArrivalGroupA(x, y)) ? 1.0f : 0.0f;
                 in.visibility[size_t(y) * w + x] = v;
             }
         out = rig.Frame(CameraSettings(frame, 0.0f, 0.0f), in);
         REQUIRE(CountNonFinite(out) == 0);
     }
-    uint32_t numA = 0, numB = 0, exactA = 0, heldB = 0;
-    double meanA = 0.0, meanB = 0.0;
-    for (uint32_t y = 0; y < h; y++)
-        for (uint32_t x = 0; x < w; x++)
-        {
-            if (!isGrid(x, y))
-                continue;
-            float v = out[size_t(y) * w + x];
-            if (isGroupA(x, y))
-            {
-                numA++;
-                exactA += v == 0.0f ? 1u : 0u;
-                meanA += v;
-            }
-            else
-            {
-                numB++;
-                heldB += v >= 0.5f ? 1u : 0u;
-                meanB += v;
-            }
-        }
+    ArrivalCount c = CountArrivalGrid(out, w, h);
     std::printf("TILED_SHADOW shadow arriving on isolated settled pixels: %u of %u output 0 (mean %.3f); "
                 "one unlikely sample: %u of %u held at 0.5 or more (mean %.3f)\n",
-                exactA, numA, meanA / numA, heldB, numB, meanB / numB);
-    REQUIRE(numA >= 10);
-    REQUIRE(numB >= 10);
-    CHECK(exactA == numA);
-    CHECK(heldB == numB);
+                c.exactA, c.numA, c.meanA, c.heldB, c.numB, c.meanB);
+    REQUIRE(c.numA >= 10);
+    REQUIRE(c.numB >= 10);
+    CHECK(c.exactA == c.numA);
+    CHECK(c.heldB == c.numB);
     CHECK(context->ValidationMessageCount() == 0);
 }
 
@@ -1154,8 +1177,6 @@ TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a sett
     TiledShadowSettings settings = {};
     settings.isShadowDataInput = true;
     rig.Create(w, h, settings);
-    auto isGrid = [](uint32_t x, uint32_t y) { return x % 8 == 4 && y % 8 == 4; };
-    auto isGroupA = [](uint32_t x, uint32_t y) { return ((x / 8) + (y / 8)) % 2 == 0; };
     auto radius = [&](float pixels) { return pixels / (0.5f * float(h)); }; // Radius / viewZ, |P11| = 1.
     std::vector<float> out;
     for (uint32_t frame = 0; frame < 11; frame++)
@@ -1169,10 +1190,10 @@ TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a sett
                 bool isNearGrid = x % 8 >= 3 && x % 8 <= 5 && y % 8 >= 3 && y % 8 <= 5;
                 float v = (x + 2 * y + frame / 3) % 4 == 0 && !isNearGrid ? 0.0f : 1.0f;
                 float penumbra = 2.0f;
-                if (isGrid(x, y))
+                if (IsArrivalGrid(x, y))
                 {
                     v = frame < 10 ? 1.0f : 0.0f;
-                    penumbra = isGroupA(x, y) ? 0.1f : 2.0f;
+                    penumbra = IsArrivalGroupA(x, y) ? 0.1f : 2.0f;
                 }
                 size_t i = size_t(y) * w + x;
                 in.visibility[i] = v;
@@ -1182,28 +1203,12 @@ TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a sett
         out = rig.Frame(frame, in);
         REQUIRE(CountNonFinite(out) == 0);
     }
-    uint32_t numA = 0, numB = 0, exactA = 0, heldB = 0;
-    for (uint32_t y = 0; y < h; y++)
-        for (uint32_t x = 0; x < w; x++)
-        {
-            if (!isGrid(x, y))
-                continue;
-            float v = out[size_t(y) * w + x];
-            if (isGroupA(x, y))
-            {
-                numA++;
-                exactA += v == 0.0f ? 1u : 0u;
-            }
-            else
-            {
-                numB++;
-                heldB += v >= 0.5f ? 1u : 0u;
-            }
-        }
-    INFO("hard samples output 0: " << exactA << " of " << numA << "; soft samples held at 0.5 or more: " << heldB << " of " << numB);
-    REQUIRE(numA >= 10);
-    REQUIRE(numB >= 10);
-    CHECK(exactA == numA);
-    CHECK(heldB == numB);
+    ArrivalCount c = CountArrivalGrid(out, w, h);
+    INFO("hard samples output 0: " << c.exactA << " of " << c.numA << "; soft samples held at 0.5 or more: " << c.heldB << " of "
+                                    << c.numB);
+    REQUIRE(c.numA >= 10);
+    REQUIRE(c.numB >= 10);
+    CHECK(c.exactA == c.numA);
+    CHECK(c.heldB == c.numB);
     CHECK(context->ValidationMessageCount() == 0);
 }

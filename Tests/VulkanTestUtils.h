@@ -146,6 +146,29 @@ inline float RoundToHalf(float x, bool truncate)
     return float((truncate ? std::trunc(q) : std::nearbyint(q)) * quantum);
 }
 
+// A pool texture of 'integration' as a lab texture (in the state the Integration tracks).
+inline lab::LabTexture PoolTextureView(const Integration::PoolImage& image)
+{
+    lab::LabTexture view;
+    view.texture = image.texture;
+    view.format = rhi::FromVkFormat(image.format);
+    view.width = image.width;
+    view.height = image.height;
+    view.state = image.state;
+    return view;
+}
+
+// After a copy from or to a pool texture ('view' left in the copy's state): back to the state the
+// Integration tracks, for the next Denoise.
+inline void RestorePoolTextureState(lab::VulkanContext& context, const lab::LabTexture& view, const Integration::PoolImage& image)
+{
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
+    rhi::TextureBarrier back = {image.texture, view.state, image.state};
+    context.GetDevice().CmdBarrier(rhi::GetCommandBuffer(commandBuffer), {nullptr, 0, nullptr, 0, &back, 1});
+    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
+}
+
 // Reads a pool texture ('type' PERMANENT_POOL or TRANSIENT_POOL) back as the last Denoise of
 // 'integration' left it (that Denoise must have completed), then restores the state it tracks.
 inline std::vector<float> ReadbackPoolTexture(lab::VulkanContext& context, Integration& integration, ResourceType type,
@@ -153,20 +176,22 @@ inline std::vector<float> ReadbackPoolTexture(lab::VulkanContext& context, Integ
 {
     Integration::PoolImage image = integration.GetPoolImage(type, index);
     REQUIRE(image.texture != nullptr);
-    lab::LabTexture view;
-    view.texture = image.texture;
-    view.format = rhi::FromVkFormat(image.format);
-    view.width = image.width;
-    view.height = image.height;
-    view.state = image.state;
+    lab::LabTexture view = PoolTextureView(image);
     std::vector<float> pixels;
     REQUIRE(context.ReadbackTexture(view, pixels) == VK_SUCCESS);
-    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
-    REQUIRE(context.BeginCommands(commandBuffer) == VK_SUCCESS);
-    rhi::TextureBarrier back = {image.texture, view.state, image.state};
-    context.GetDevice().CmdBarrier(rhi::GetCommandBuffer(commandBuffer), {nullptr, 0, nullptr, 0, &back, 1});
-    REQUIRE(context.SubmitAndWait(commandBuffer) == VK_SUCCESS);
+    RestorePoolTextureState(context, view, image);
     return pixels;
+}
+
+// Overwrites a pool texture with 'pixels' (ReadbackPoolTexture's layout) between two Denoise calls.
+inline void WritePoolTexture(lab::VulkanContext& context, Integration& integration, ResourceType type, uint16_t index,
+                             const std::vector<float>& pixels)
+{
+    Integration::PoolImage image = integration.GetPoolImage(type, index);
+    REQUIRE(image.texture != nullptr);
+    lab::LabTexture view = PoolTextureView(image);
+    REQUIRE(context.UploadTexture(view, pixels.data(), rhi::Layout::GENERAL) == VK_SUCCESS);
+    RestorePoolTextureState(context, view, image);
 }
 
 // Runs a compute shader of 64 threads per group with two storage buffers, binding 0 the cases
