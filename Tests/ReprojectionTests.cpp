@@ -117,7 +117,7 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
 
         std::mt19937 rng(1313);
         std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-        const uint32_t caseNum = 256;
+        const uint32_t caseNum = 1024;
         std::vector<Case> cases(caseNum);
         for (uint32_t i = 0; i < caseNum; i++)
         {
@@ -171,7 +171,10 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
         std::vector<float> history = test::RandomFloats(kSize * kSize * 4, 1314, -1.0f, 4.0f);
         history[5 * 4 + 2] = std::numeric_limits<float>::quiet_NaN();
         history[20 * 4 + 0] = std::numeric_limits<float>::infinity();
-        std::vector<float> prevViewZ = test::RandomFloats(kSize * kSize, 1315, 0.5f, 30.0f);
+        // Previous viewZ of the texels (the footprint's own taps come with each case): depths around
+        // the middle of the cases' range, so that Catmull-Rom's outer taps are valid for some
+        // cases, invalid for others, and a mix for the rest.
+        std::vector<float> prevViewZ = test::RandomFloats(kSize * kSize, 1315, 8.0f, 12.0f);
 
         lab::LabTexture historyTexture, viewZTexture;
         REQUIRE(context->CreateTexture(rhi::Format::RGBA32_SFLOAT, kSize, kSize, "history", historyTexture) == VK_SUCCESS);
@@ -259,6 +262,7 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
         };
         std::vector<float> expected(actual.size(), 0.0f);
         uint32_t catmullRomCases = 0, partialCases = 0, disoccludedCases = 0, parallaxCases = 0;
+        uint32_t wholeCatmullRomCases = 0, mixedCatmullRomCases = 0; // All outer taps valid; some.
         for (uint32_t i = 0; i < caseNum; i++)
         {
             const Case& c = cases[i];
@@ -299,6 +303,20 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
                 }
                 e[8 + ch] = footprintWeight > 0.0f ? sum / footprintWeight : 0.0f;
             }
+            // Catmull-Rom's outer taps (bit 4 j + t of the 4x4 footprint, corners and inner 2x2 left
+            // out) whose previous viewZ is within twice the tolerance.
+            uint32_t outerTaps = 0;
+            for (int j = 0; j < 4; j++)
+                for (int t = 0; t < 4; t++)
+                {
+                    if (((t == 0 || t == 3) ? 1 : 0) + ((j == 0 || j == 3) ? 1 : 0) != 1)
+                        continue;
+                    int x = std::min(std::max(originX + t - 1, 0), kSize - 1);
+                    int y = std::min(std::max(originY + j - 1, 0), kSize - 1);
+                    if (std::fabs(prevViewZ[size_t(y) * kSize + x] - c.expectedViewZ) <= 2.0f * tolerance)
+                        outerTaps |= 1u << (4 * j + t);
+                }
+            e[31] = float(outerTaps);
             if (allValid)
             {
                 Vec4 wx = CatmullRomWeights(fx), wy = CatmullRomWeights(fy);
@@ -341,14 +359,19 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
             e[30] = float(originY);
 
             catmullRomCases += allValid ? 1 : 0;
+            wholeCatmullRomCases += allValid && outerTaps == 0x6996u ? 1 : 0;
+            mixedCatmullRomCases += allValid && outerTaps != 0x6996u && outerTaps != 0 ? 1 : 0;
             partialCases += !allValid && footprintWeight > 0.0f ? 1 : 0;
             disoccludedCases += footprintWeight == 0.0f ? 1 : 0;
             parallaxCases += e[19] > 0.1f ? 1 : 0;
         }
-        std::printf("reprojection cases: %u Catmull-Rom, %u partial, %u disoccluded, %u with parallax\n", catmullRomCases,
-                    partialCases, disoccludedCases, parallaxCases);
+        std::printf("reprojection cases: %u Catmull-Rom (%u with every outer tap, %u with some), %u partial, %u disoccluded, "
+                    "%u with parallax\n",
+                    catmullRomCases, wholeCatmullRomCases, mixedCatmullRomCases, partialCases, disoccludedCases, parallaxCases);
         // The random cases reach every branch.
         CHECK(catmullRomCases >= 20);
+        CHECK(wholeCatmullRomCases >= 5);
+        CHECK(mixedCatmullRomCases >= 5);
         CHECK(partialCases >= 20);
         CHECK(disoccludedCases >= 20);
         CHECK(parallaxCases >= 20);

@@ -195,6 +195,15 @@ struct Case
     uint16_t width = kSize;     // Creation size of the default plan.
     uint16_t height = kSize;
     bool needsBoundedOutputs = false; // Only for methods whose outputs are bounded (not OUT_RADIANCE).
+    // Sub-pixel motion on every frame (IN_MV = -0.37, -0.41 pixel: the previous position lies up
+    // and to the left, so the first rows below the sky and the first columns resample the sky's and
+    // the border's history texels).
+    bool subPixelMotion = false;
+    // If not 0: the case runs twice, once as planned and once with every byte of the permanent pool
+    // set to this pattern before the second frame, which restarts the history (frameIndex 0): what
+    // the first frame left, or the memory an application's RHI did not clear. The outputs must be
+    // the same bit for bit on every frame.
+    uint8_t permanentPoolFill = 0;
 };
 
 // Documented recovery (README.md, "Out-of-contract inputs"): frames after the last disturbance
@@ -685,6 +694,24 @@ std::vector<Case> GenericCases()
         plan[up].disturbance = true;
         return plan;
     }));
+    // A restart over a permanent pool of garbage: a frame with frameIndex 0 starts the history, so
+    // every texel a later frame reads must have been written since. Finite garbage, then all ones
+    // (NaN in every float format), under sub-pixel motion towards the sky and the border.
+    for (uint8_t fill : {uint8_t(0x3f), uint8_t(0xff)})
+    {
+        Case c = SequenceCase(fill == 0xff ? "restart over a permanent pool of all ones (NaN), sub-pixel motion"
+                                           : "restart over a permanent pool of 0x3f bytes, sub-pixel motion",
+                              [](uint32_t) {
+                                  std::vector<FramePlan> plan = CleanFrames(1);
+                                  for (const FramePlan& f : CleanFrames(10))
+                                      plan.push_back(f); // frameIndex 0 again: a restart.
+                                  return plan;
+                              });
+        c.tag = "pools";
+        c.subPixelMotion = true;
+        c.permanentPoolFill = fill;
+        cases.push_back(c);
+    }
     cases.push_back(SequenceCase("dynamic resolution down then up", [](uint32_t r) {
         std::vector<FramePlan> plan = CleanFrames(kWarmFrames);
         FramePlan small;
@@ -850,6 +877,7 @@ public:
     const MethodTraits& Traits() const { return m_Traits; }
     bool Reads(ResourceType type) const { return std::find(m_Inputs.begin(), m_Inputs.end(), type) != m_Inputs.end(); }
     Integration& GetIntegration() { return m_Integration; }
+    ResourceType Output(size_t i) const { return m_Outputs[i]; }
 
     // A fresh history at 'width' x 'height' with default settings and zeroed outputs.
     void Begin(uint16_t width, uint16_t height, rhi::Format outputFormat)
@@ -871,6 +899,7 @@ public:
         if (m_Traits.applyDefaults)
             REQUIRE(m_Traits.applyDefaults.integration(m_Integration) == Result::SUCCESS);
         m_BadSettingsActive = false;
+        m_PermanentPoolFilled = false;
         Resize(width, height);
     }
 
@@ -1003,7 +1032,13 @@ private:
                 float vis = Visibility(seed, x, y, rw);
                 switch (type)
                 {
-                case ResourceType::IN_MV: break;
+                case ResourceType::IN_MV:
+                    if (c.subPixelMotion)
+                    {
+                        p[0] = -0.37f / float(rw);
+                        p[1] = -0.41f / float(rh);
+                    }
+                    break;
                 case ResourceType::IN_NORMAL_ROUGHNESS:
                     p[0] = 0.5f;
                     p[1] = 0.5f;
@@ -1081,7 +1116,6 @@ private:
     void PoisonTransients()
     {
         const DenoiserDesc& desc = m_Integration.GetDenoiserDesc();
-        rhi::Device& device = m_Device();
         std::vector<Integration::PoolImage> images;
         uint64_t bytes = 0;
         for (uint32_t i = 0; i < desc.transientPoolSize; i++)
@@ -1097,18 +1131,53 @@ private:
             return;
         bytes = (bytes + 15) / 16 * 16; // The fp16 half starts at a multiple of every texel size.
 
-        // One staging buffer: fp32 poison words, then fp16 poison halves.
+        // One staging area: fp32 poison words, then fp16 poison halves.
+        std::vector<uint8_t> staging(size_t(bytes * 2));
+        for (uint64_t i = 0; i < bytes; i += 4)
+            std::memcpy(&staging[size_t(i)], &kPoison32, 4);
+        for (uint64_t i = 0; i < bytes; i += 2)
+            std::memcpy(&staging[size_t(bytes + i)], &kPoison16, 2);
+        CopyToPoolImages(images, staging, [bytes](const Integration::PoolImage& image) {
+            const rhi::FormatInfo& info = rhi::GetFormatInfo(rhi::FromVkFormat(image.format));
+            return info.bytesPerPixel == 2 * info.channelNum ? bytes : 0;
+        });
+    }
+
+public:
+    // Every byte of every permanent pool texture set to 'pattern' (between two Denoise calls).
+    void FillPermanentPool(uint8_t pattern)
+    {
+        const DenoiserDesc& desc = m_Integration.GetDenoiserDesc();
+        std::vector<Integration::PoolImage> images;
+        uint64_t bytes = 0;
+        for (uint32_t i = 0; i < desc.permanentPoolSize; i++)
+        {
+            Integration::PoolImage image = m_Integration.GetPoolImage(ResourceType::PERMANENT_POOL, i);
+            REQUIRE(image.layout != VK_IMAGE_LAYOUT_UNDEFINED); // Cleared by the first Denoise.
+            images.push_back(image);
+            bytes = std::max<uint64_t>(bytes, uint64_t(image.width) * image.height *
+                                                  rhi::GetFormatBytesPerPixel(rhi::FromVkFormat(image.format)));
+        }
+        if (!images.empty())
+            CopyToPoolImages(images, std::vector<uint8_t>(size_t(bytes), pattern),
+                             [](const Integration::PoolImage&) { return uint64_t(0); });
+        m_PermanentPoolFilled = true; // Texels no pass writes keep the pattern (NaN or not).
+    }
+
+private:
+    // Copies 'bytes' from offset 'offsetOf(image)' into each of 'images' (tightly packed texels),
+    // leaving each in the state the Integration tracks.
+    void CopyToPoolImages(const std::vector<Integration::PoolImage>& images, const std::vector<uint8_t>& bytes,
+                          const std::function<uint64_t(const Integration::PoolImage&)>& offsetOf)
+    {
+        rhi::Device& device = m_Device();
         rhi::BufferDesc stagingDesc = {};
-        stagingDesc.size = bytes * 2;
+        stagingDesc.size = bytes.size();
         stagingDesc.usage = rhi::BUFFER_USAGE_COPY_SOURCE;
         stagingDesc.location = rhi::MemoryLocation::HOST_UPLOAD;
         rhi::Buffer* staging = nullptr;
         REQUIRE(device.CreateBuffer(stagingDesc, staging) == rhi::Result::SUCCESS);
-        uint8_t* mapped = static_cast<uint8_t*>(device.MapBuffer(*staging));
-        for (uint64_t i = 0; i < bytes; i += 4)
-            std::memcpy(mapped + i, &kPoison32, 4);
-        for (uint64_t i = 0; i < bytes; i += 2)
-            std::memcpy(mapped + bytes + i, &kPoison16, 2);
+        std::memcpy(device.MapBuffer(*staging), bytes.data(), bytes.size());
 
         VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
         REQUIRE(m_Context.BeginCommands(commandBuffer) == VK_SUCCESS);
@@ -1120,9 +1189,7 @@ private:
             // (RAW for the next Denoise).
             rhi::TextureBarrier toCopy = {image.texture, image.state, copyState};
             device.CmdBarrier(cmd, {nullptr, 0, nullptr, 0, &toCopy, 1});
-            bool half = rhi::GetFormatInfo(rhi::FromVkFormat(image.format)).bytesPerPixel ==
-                        2 * rhi::GetFormatInfo(rhi::FromVkFormat(image.format)).channelNum;
-            device.CmdCopyBufferToTexture(cmd, *image.texture, *staging, half ? bytes : 0);
+            device.CmdCopyBufferToTexture(cmd, *image.texture, *staging, offsetOf(image));
             rhi::TextureBarrier back = {image.texture, copyState, image.state};
             device.CmdBarrier(cmd, {nullptr, 0, nullptr, 0, &back, 1});
         }
@@ -1148,6 +1215,8 @@ private:
         std::vector<rhi::TextureBarrier> restore;
         for (ResourceType pool : {ResourceType::PERMANENT_POOL, ResourceType::TRANSIENT_POOL})
         {
+            if (pool == ResourceType::PERMANENT_POOL && m_PermanentPoolFilled)
+                continue;
             uint32_t num = pool == ResourceType::PERMANENT_POOL ? desc.permanentPoolSize : desc.transientPoolSize;
             for (uint32_t i = 0; i < num; i++)
             {
@@ -1192,6 +1261,7 @@ private:
     Integration m_Integration;
     bool m_Created = false;
     bool m_BadSettingsActive = false;
+    bool m_PermanentPoolFilled = false;
     uint16_t m_Width = 0, m_Height = 0;
     rhi::Format m_OutputFormat = rhi::Format::RGBA32_SFLOAT;
     std::map<ResourceType, lab::LabTexture> m_Textures;
@@ -1247,7 +1317,9 @@ struct WorldCleanup : Catch::TestEventListenerBase
 // Running a case.
 //==================================================================================================
 
-void RunPlan(Rig& rig, const Case& c, const std::vector<FramePlan>& plan, std::vector<FrameRecord>& records)
+// 'permanentPoolFill': if not 0, every byte of the permanent pool before the second frame.
+void RunPlan(Rig& rig, const Case& c, const std::vector<FramePlan>& plan, std::vector<FrameRecord>& records,
+             uint8_t permanentPoolFill = 0)
 {
     records.assign(plan.size(), FrameRecord());
     rig.Begin(plan.front().width, plan.front().height, c.outputFormat);
@@ -1263,6 +1335,8 @@ void RunPlan(Rig& rig, const Case& c, const std::vector<FramePlan>& plan, std::v
         records[t].framesSinceReset = reset ? 0 : records[t - 1].framesSinceReset + 1;
         if (!f.sameInputs)
             seed = records[t].framesSinceReset;
+        if (permanentPoolFill && t == 1)
+            rig.FillPermanentPool(permanentPoolFill);
         rig.RunFrame(c, f, seed, records[t]);
     }
 }
@@ -1347,6 +1421,45 @@ void RunCase(Method method, const Case& c)
 
     std::vector<FrameRecord> records;
     RunPlan(rig, c, plan, records);
+
+    if (c.permanentPoolFill)
+    {
+        // The same frames over a permanent pool of garbage: the same outputs, bit for bit.
+        std::vector<FrameRecord> filled;
+        RunPlan(rig, c, plan, filled, c.permanentPoolFill);
+        for (size_t t = 0; t < plan.size(); t++)
+            for (size_t o = 0; o < records[t].outputs.size(); o++)
+            {
+                const std::vector<float>& a = records[t].outputs[o];
+                const std::vector<float>& b = filled[t].outputs[o];
+                REQUIRE(a.size() == b.size());
+                size_t differ = 0, first = a.size();
+                for (size_t i = 0; i < a.size(); i++)
+                    if (std::memcmp(&a[i], &b[i], sizeof(float)) != 0)
+                    {
+                        differ++;
+                        first = std::min(first, i);
+                    }
+                if (std::getenv("NRD_ROBUSTNESS_VERBOSE") && differ)
+                {
+                    std::printf("frame %zu output %zu:\n", t, o);
+                    for (uint32_t y = 0; y < records[t].height; y++)
+                    {
+                        for (uint32_t x = 0; x < records[t].width; x++)
+                            std::printf("%c", std::memcmp(&a[(size_t(y) * records[t].width + x) * 4], &b[(size_t(y) * records[t].width + x) * 4], 16) ? 'X' : '.');
+                        std::printf("\n");
+                    }
+                }
+                INFO("frame " << t << ", " << GetResourceTypeString(rig.Output(o)) << ": " << differ
+                              << " values differ from the cleared pool's run; first at ("
+                              << (first / 4) % records[t].width << ", " << (first / 4) / records[t].width << ")."
+                              << first % 4 << ": " << (first < a.size() ? a[first] : 0.0f) << " against "
+                              << (first < b.size() ? b[first] : 0.0f));
+                CHECK(differ == 0);
+            }
+        CHECK(context.ValidationMessageCount() == messagesBefore);
+        return;
+    }
 
     // Error against the clean run once recovered; documented behaviour during the bad frames.
     // NRD_ROBUSTNESS_VERBOSE=1 prints every frame (to measure recovery).

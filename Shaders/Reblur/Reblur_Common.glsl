@@ -395,6 +395,8 @@ ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSur
 #endif
     if (gResetHistory != 0u)
         r.surface.weights = vec4(0.0), r.surface.footprintWeight = 0.0, r.surface.isCatmullRomAllowed = false;
+    r.surface.isCatmullRomAllowed = r.surface.isCatmullRomAllowed &&
+        _NRD_CatmullRomOuterTaps(prevViewZ, r.surface.footprint, size, expectedViewZ, tolerance) == NRD_CATMULL_ROM_OUTER_TAPS;
     r.virtual_ = r.surface;
     r.virtualAmount = 0.0;
 #if REBLUR_SPECULAR
@@ -410,6 +412,8 @@ ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSur
                                    tolerance * 2.0);
     if (gResetHistory != 0u)
         r.virtual_.weights = vec4(0.0), r.virtual_.footprintWeight = 0.0, r.virtual_.isCatmullRomAllowed = false;
+    r.virtual_.isCatmullRomAllowed = r.virtual_.isCatmullRomAllowed &&
+        _NRD_CatmullRomOuterTaps(prevViewZ, r.virtual_.footprint, size, expectedViewZ, tolerance * 2.0) == NRD_CATMULL_ROM_OUTER_TAPS;
     float d = _NRD_SpecularDominantFactor(s.roughness);
     float vw = d * r.virtual_.footprintWeight;
     float sw = (1.0 - d) * r.surface.footprintWeight;

@@ -167,7 +167,8 @@ void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out
     // Under motion both histories are resampled with Catmull-Rom where the whole bilinear footprint
     // holds the same surface: bilinear resampling every frame blurs them away from the truth's
     // detail. Kept within the footprint's range (Catmull-Rom rings).
-    if (footprint > 0.0 && all(greaterThan(validity, vec4(0.5))) && any(notEqual(snapped, round(snapped))))
+    if (footprint > 0.0 && all(greaterThan(validity, vec4(0.5))) && any(notEqual(snapped, round(snapped))) &&
+        _NRD_CatmullRomOuterTaps(gPrev_ViewZ, r.footprint, size, zExpected, tolerance) == NRD_CATMULL_ROM_OUTER_TAPS)
     {
         NrdFootprint crFootprint = r.footprint;
         crFootprint.f = snapped;

@@ -54,8 +54,6 @@
 // HARD_SHADOW_RESAMPLED_BLEND of the history (see main).
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
-// Depth tolerance of the Catmull-Rom footprint's outer taps, relative to the bilinear taps'.
-#define CATMULL_ROM_OUTER_TOLERANCE 2.0
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
@@ -94,7 +92,7 @@ SIGMA_TYPE LoadHistory(ivec2 pixel)
 // (taps outside the image are clamped to it); the 4 corner taps, whose weights are tiny, are left
 // out and the rest renormalized. Clamped to [0, 1] against ringing. False (and 'result' untouched)
 // where one of the 8 outer taps holds another surface or no history (sky, never written: its
-// value is undefined) by the disocclusion test, with CATMULL_ROM_OUTER_TOLERANCE times the
+// value is undefined) by the disocclusion test, with NRD_CATMULL_ROM_OUTER_TOLERANCE times the
 // tolerance (the outer taps lie up to 2 pixels away); the caller keeps its bilinear history.
 bool CatmullRomHistory(ivec2 origin, vec2 f, float expectedViewZ, float tolerance, inout SIGMA_TYPE result)
 {
@@ -114,7 +112,7 @@ bool CatmullRomHistory(ivec2 origin, vec2 f, float expectedViewZ, float toleranc
             if (isOuterI || isOuterJ) // The inner 2x2 passed the test already.
             {
                 uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
-                if (!(abs(uintBitsToFloat(packed & HISTORY_VIEWZ_MASK) - expectedViewZ) <= CATMULL_ROM_OUTER_TOLERANCE * tolerance))
+                if (!(abs(uintBitsToFloat(packed & HISTORY_VIEWZ_MASK) - expectedViewZ) <= NRD_CATMULL_ROM_OUTER_TOLERANCE * tolerance))
                     return false;
             }
             float w = wx[i] * wy[j];

@@ -5,7 +5,8 @@
 // CASE_INPUTS vec4 per case:
 //   0: uvPrev.xy, expectedViewZ, viewZ      1: NoV, threshold, projectY, linearRoughness
 //   2: previous viewZ of the 4 footprint taps   3: X.xyz, hitDist   4: surfaceMotion.xyz, packed length
-// gResults: CASE_OUTPUTS vec4 per case (see main).
+// gResults: CASE_OUTPUTS vec4 per case (see main). The outer taps of Catmull-Rom are tested against
+// gPrevViewZ (the footprint's own taps against the case's 4 values).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -44,10 +45,12 @@ void main()
     gResults[o + 0] = r.weights;
     gResults[o + 1] = vec4(r.footprintWeight, r.isCatmullRomAllowed ? 1.0 : 0.0, tolerance, float(r.footprint.origin.x));
     gResults[o + 2] = _NRD_BilinearHistory(gHistory, r);
+    uint outerTaps = _NRD_CatmullRomOuterTaps(gPrevViewZ, r.footprint, size, in0.z, tolerance);
     gResults[o + 3] = r.isCatmullRomAllowed ? _NRD_CatmullRomHistory(gHistory, r.footprint, size) : vec4(0.0);
     gResults[o + 4] = vec4(uvVirtual, _NRD_SpecularDominantFactor(in1.w), _NRD_ParallaxInPixels(uvSurface, uvVirtual, vec2(size)));
     gResults[o + 5] = _NRD_CatmullRomWeights(r.footprint.f.x);
     vec4 gathered = _NRD_GatherFootprint(gPrevViewZ, r.footprint.origin, size);
     gResults[o + 6] = mix(gathered, vec4(-1.0), isnan(gathered)); // Outside the image: -1.
-    gResults[o + 7] = vec4(_NRD_UnpackHistoryLength(in4.w), _NRD_PackHistoryLength(in4.w * 300.0), float(r.footprint.origin.y), 0.0);
+    gResults[o + 7] = vec4(_NRD_UnpackHistoryLength(in4.w), _NRD_PackHistoryLength(in4.w * 300.0), float(r.footprint.origin.y),
+                           float(outerTaps));
 }
