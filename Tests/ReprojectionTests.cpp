@@ -304,7 +304,8 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
                 e[8 + ch] = footprintWeight > 0.0f ? sum / footprintWeight : 0.0f;
             }
             // Catmull-Rom's outer taps (bit 4 j + t of the 4x4 footprint, corners and inner 2x2 left
-            // out) whose previous viewZ is within twice the tolerance.
+            // out) whose previous viewZ is within twice the tolerance; the others read the inner tap
+            // next to them.
             uint32_t outerTaps = 0;
             for (int j = 0; j < 4; j++)
                 for (int t = 0; t < 4; t++)
@@ -329,8 +330,11 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
                         {
                             if ((t == 0 || t == 3) && (j == 0 || j == 3))
                                 continue;
-                            int x = std::min(std::max(originX + t - 1, 0), kSize - 1);
-                            int y = std::min(std::max(originY + j - 1, 0), kSize - 1);
+                            bool outer = t == 0 || t == 3 || j == 0 || j == 3;
+                            bool replaced = outer && (outerTaps & (1u << (4 * j + t))) == 0;
+                            int tx = replaced ? std::min(std::max(t, 1), 2) : t, ty = replaced ? std::min(std::max(j, 1), 2) : j;
+                            int x = std::min(std::max(originX + tx - 1, 0), kSize - 1);
+                            int y = std::min(std::max(originY + ty - 1, 0), kSize - 1);
                             sum += historyAt(x, y, ch) * wx[t] * wy[j];
                             weightSum += wx[t] * wy[j];
                         }

@@ -696,22 +696,34 @@ std::vector<Case> GenericCases()
     }));
     // A restart over a permanent pool of garbage: a frame with frameIndex 0 starts the history, so
     // every texel a later frame reads must have been written since. Finite garbage, then all ones
-    // (NaN in every float format), under sub-pixel motion towards the sky and the border.
-    for (uint8_t fill : {uint8_t(0x3f), uint8_t(0xff)})
-    {
-        Case c = SequenceCase(fill == 0xff ? "restart over a permanent pool of all ones (NaN), sub-pixel motion"
-                                           : "restart over a permanent pool of 0x3f bytes, sub-pixel motion",
-                              [](uint32_t) {
-                                  std::vector<FramePlan> plan = CleanFrames(1);
-                                  for (const FramePlan& f : CleanFrames(10))
-                                      plan.push_back(f); // frameIndex 0 again: a restart.
-                                  return plan;
-                              });
-        c.tag = "pools";
-        c.subPixelMotion = true;
-        c.permanentPoolFill = fill;
-        cases.push_back(c);
-    }
+    // (NaN in every float format). Under sub-pixel 2D motion towards the sky and the border, and
+    // under camera motion (world-space motion vectors of a still world, the previous camera 0.3
+    // units up and left of this one: 0.72 pixel at 48x48; the path of the plane tests and of
+    // specular virtual motion).
+    for (bool camera : {false, true})
+        for (uint8_t fill : {uint8_t(0x3f), uint8_t(0xff)})
+        {
+            std::string name = std::string("restart over a permanent pool of ") +
+                               (fill == 0xff ? "all ones (NaN)" : "0x3f bytes") + (camera ? ", camera motion" : ", sub-pixel motion");
+            Case c = SequenceCase(name, [camera](uint32_t) {
+                std::vector<FramePlan> plan = CleanFrames(1);
+                for (const FramePlan& f : CleanFrames(10))
+                    plan.push_back(f); // frameIndex 0 again: a restart.
+                for (FramePlan& f : plan)
+                    f.bad = camera; // The camera edit applies to every frame.
+                return plan;
+            });
+            c.tag = "pools";
+            c.permanentPoolFill = fill;
+            c.subPixelMotion = !camera;
+            if (camera)
+                c.editCommon = [](CommonSettings& s) {
+                    s.isMotionVectorInWorldSpace = true;
+                    s.worldToViewMatrixPrev[12] = -0.3f; // Column-major: the translation column.
+                    s.worldToViewMatrixPrev[13] = -0.3f;
+                };
+            cases.push_back(c);
+        }
     cases.push_back(SequenceCase("dynamic resolution down then up", [](uint32_t r) {
         std::vector<FramePlan> plan = CleanFrames(kWarmFrames);
         FramePlan small;

@@ -87,6 +87,7 @@ struct NrdReprojection
     vec4 weights;
     float footprintWeight;
     bool isCatmullRomAllowed;
+    uint catmullRomOuterTaps; // _NRD_CatmullRomOuterTaps where the caller tested them.
 };
 
 NrdReprojection _NRD_Reprojection(vec2 uvPrev, ivec2 size, vec4 prevViewZ, float expectedViewZ, float tolerance)
@@ -99,6 +100,7 @@ NrdReprojection _NRD_Reprojection(vec2 uvPrev, ivec2 size, vec4 prevViewZ, float
     r.weights = _NRD_BilinearWeights(r.footprint.f) * valid;
     r.footprintWeight = dot(r.weights, vec4(1.0));
     r.isCatmullRomAllowed = all(greaterThan(valid, vec4(0.5)));
+    r.catmullRomOuterTaps = NRD_CATMULL_ROM_OUTER_TAPS;
     return r;
 }
 
@@ -156,12 +158,11 @@ uint _NRD_CatmullRomOuterTaps(texture2D prevViewZ, NrdFootprint footprint, ivec2
 }
 
 // Catmull-Rom history over the 4x4 texels around the footprint, the 4 corners (tiny weights) left
-// out and the rest renormalized; taps outside the image are clamped to it. Only where all 12 taps
-// hold the same surface: the bilinear footprint (NrdReprojection::isCatmullRomAllowed) and every
-// outer tap (_NRD_CatmullRomOuterTaps); elsewhere the bilinear history stands (replacing only the
-// failed outer taps by the bilinear history gained at most 1.8% of relMSE for 0.1 ms of RELAX at
-// 1920x1080: Shaders/Relax/README.md). Can ring: clamp the result to the range the signal allows.
-vec4 _NRD_CatmullRomHistory(texture2D history, NrdFootprint footprint, ivec2 size)
+// out and the rest renormalized; taps outside the image are clamped to it. Where the bilinear
+// footprint holds one surface (NrdReprojection::isCatmullRomAllowed); an outer tap not in
+// 'outerValid' (_NRD_CatmullRomOuterTaps) reads the inner tap next to it instead, as the image's
+// border does. Can ring: clamp the result to the range the signal allows.
+vec4 _NRD_CatmullRomHistory(texture2D history, NrdFootprint footprint, ivec2 size, uint outerValid)
 {
     vec4 wx = _NRD_CatmullRomWeights(footprint.f.x);
     vec4 wy = _NRD_CatmullRomWeights(footprint.f.y);
@@ -174,7 +175,9 @@ vec4 _NRD_CatmullRomHistory(texture2D history, NrdFootprint footprint, ivec2 siz
             if ((i == 0 || i == 3) && (j == 0 || j == 3))
                 continue;
             float w = wx[i] * wy[j];
-            ivec2 q = clamp(footprint.origin + ivec2(i - 1, j - 1), ivec2(0), size - 1);
+            bool isReplaced = (NRD_CATMULL_ROM_OUTER_TAPS & ~outerValid & (1u << uint(4 * j + i))) != 0u;
+            ivec2 k = isReplaced ? clamp(ivec2(i, j), ivec2(1), ivec2(2)) : ivec2(i, j);
+            ivec2 q = clamp(footprint.origin + k - 1, ivec2(0), size - 1);
             sum += _NRD_Sanitize(texelFetch(sampler2D(history, gNearestClamp), q, 0), 0.0) * w;
             weightSum += w;
         }

@@ -395,8 +395,8 @@ ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSur
 #endif
     if (gResetHistory != 0u)
         r.surface.weights = vec4(0.0), r.surface.footprintWeight = 0.0, r.surface.isCatmullRomAllowed = false;
-    r.surface.isCatmullRomAllowed = r.surface.isCatmullRomAllowed &&
-        _NRD_CatmullRomOuterTaps(prevViewZ, r.surface.footprint, size, expectedViewZ, tolerance) == NRD_CATMULL_ROM_OUTER_TAPS;
+    r.surface.catmullRomOuterTaps =
+        r.surface.isCatmullRomAllowed ? _NRD_CatmullRomOuterTaps(prevViewZ, r.surface.footprint, size, expectedViewZ, tolerance) : 0u;
     r.virtual_ = r.surface;
     r.virtualAmount = 0.0;
 #if REBLUR_SPECULAR
@@ -412,8 +412,8 @@ ReblurReprojection _Reblur_Reproject(texture2D prevViewZ, ivec2 pixel, ReblurSur
                                    tolerance * 2.0);
     if (gResetHistory != 0u)
         r.virtual_.weights = vec4(0.0), r.virtual_.footprintWeight = 0.0, r.virtual_.isCatmullRomAllowed = false;
-    r.virtual_.isCatmullRomAllowed = r.virtual_.isCatmullRomAllowed &&
-        _NRD_CatmullRomOuterTaps(prevViewZ, r.virtual_.footprint, size, expectedViewZ, tolerance * 2.0) == NRD_CATMULL_ROM_OUTER_TAPS;
+    r.virtual_.catmullRomOuterTaps =
+        r.virtual_.isCatmullRomAllowed ? _NRD_CatmullRomOuterTaps(prevViewZ, r.virtual_.footprint, size, expectedViewZ, tolerance * 2.0) : 0u;
     float d = _NRD_SpecularDominantFactor(s.roughness);
     float vw = d * r.virtual_.footprintWeight;
     float sw = (1.0 - d) * r.surface.footprintWeight;
@@ -432,7 +432,7 @@ vec4 _Reblur_FetchHistory(texture2D history, NrdReprojection r)
         return vec4(0.0);
     if (r.isCatmullRomAllowed)
     {
-        vec4 cr = _NRD_CatmullRomHistory(history, r.footprint, ivec2(gResourceSize));
+        vec4 cr = _NRD_CatmullRomHistory(history, r.footprint, ivec2(gResourceSize), r.catmullRomOuterTaps);
         vec4 bl = _NRD_BilinearHistory(history, r);
         // Catmull-Rom rings next to edges: soften it slightly towards bilinear, never negative.
         return max(mix(bl, cr, 0.85), vec4(0.0));

@@ -115,8 +115,18 @@ bool IsTraced(ivec2 p)
     return gCheckerboard == 0u || ((uint(p.x + p.y) + gFrameIndex + gCheckerboard) & 1u) == 0u;
 }
 
-// Catmull-Rom history within the range of the bilinear footprint's 2x2 texels (no ringing).
-vec4 _Relax_CatmullRomWithinFootprint(texture2D history, NrdFootprint footprint, ivec2 size)
+// Whether the previous texel 'qPrev' (inside the image) holds a surface at the expected previous
+// depth 'zExpected' (5%: the neighbourhoods' taps); sky was stored as 0. Elsewhere the history
+// texels belong to another surface or to none (undefined).
+bool IsPrevSameSurface(ivec2 qPrev, float zExpected)
+{
+    float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
+    return zPrev > 0.0 && abs(zPrev - zExpected) <= 0.05 * zExpected;
+}
+
+// Catmull-Rom history within the range of the bilinear footprint's 2x2 texels (no ringing), over
+// the outer taps in 'outerValid'.
+vec4 _Relax_CatmullRomWithinFootprint(texture2D history, NrdFootprint footprint, ivec2 size, uint outerValid)
 {
     vec4 lo = vec4(NRD_FP16_MAX), hi = vec4(0.0);
     for (int k = 0; k < 4; k++)
@@ -125,7 +135,7 @@ vec4 _Relax_CatmullRomWithinFootprint(texture2D history, NrdFootprint footprint,
         lo = min(lo, v);
         hi = max(hi, v);
     }
-    return clamp(_NRD_CatmullRomHistory(history, footprint, size), lo, hi);
+    return clamp(_NRD_CatmullRomHistory(history, footprint, size, outerValid), lo, hi);
 }
 
 // The fast history clamped per channel to mean +- RELAX_FAST_CLAMP_SIGMA standard deviations of 'count'
@@ -167,13 +177,13 @@ void Reproject(vec2 uvPrev, float zExpected, float tolerance, out vec4 slow, out
     // Under motion both histories are resampled with Catmull-Rom where the whole bilinear footprint
     // holds the same surface: bilinear resampling every frame blurs them away from the truth's
     // detail. Kept within the footprint's range (Catmull-Rom rings).
-    if (footprint > 0.0 && all(greaterThan(validity, vec4(0.5))) && any(notEqual(snapped, round(snapped))) &&
-        _NRD_CatmullRomOuterTaps(gPrev_ViewZ, r.footprint, size, zExpected, tolerance) == NRD_CATMULL_ROM_OUTER_TAPS)
+    if (footprint > 0.0 && all(greaterThan(validity, vec4(0.5))) && any(notEqual(snapped, round(snapped))))
     {
         NrdFootprint crFootprint = r.footprint;
         crFootprint.f = snapped;
-        slow.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Slow, crFootprint, size).rgb;
-        fast.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Fast, crFootprint, size).rgb;
+        uint outerValid = _NRD_CatmullRomOuterTaps(gPrev_ViewZ, r.footprint, size, zExpected, tolerance);
+        slow.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Slow, crFootprint, size, outerValid).rgb;
+        fast.rgb = _Relax_CatmullRomWithinFootprint(gPrev_Fast, crFootprint, size, outerValid).rgb;
     }
     // Length and debt unpacked per tap, then interpolated; the record (a count) from one tap.
     vec2 lengthDebt = vec2(0.0);
@@ -440,10 +450,7 @@ void main()
                     count3 += 1.0;
                 }
 #endif
-                if (!Relax_IsInImage(qPrev))
-                    continue;
-                float zPrev = texelFetch(gPrev_ViewZ, qPrev, 0).x;
-                if (!(zPrev > 0.0) || abs(zPrev - zExpected) > 0.05 * zExpected)
+                if (!Relax_IsInImage(qPrev) || !IsPrevSameSurface(qPrev, zExpected))
                     continue;
                 vec4 f = _NRD_Sanitize(texelFetch(gPrev_Fast, qPrev, 0), 0.0);
                 vec3 sl = _NRD_Sanitize(texelFetch(gPrev_Slow, qPrev, 0).rgb, 0.0);
@@ -534,7 +541,7 @@ void main()
             {
                 ivec2 o = ivec2(k % 3 - 1, k / 3 - 1);
                 ivec2 q = pixel + o, qPrev = prevCenter + o;
-                if (k == 4 || !Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q))
+                if (k == 4 || !Relax_IsInImage(q) || !Relax_IsInImage(qPrev) || !IsTraced(q) || !IsPrevSameSurface(qPrev, zExpected))
                     continue;
                 RelaxSurface nq = Relax_LoadNeighbour(gIn_NormalRoughness, gIn_ViewZ, q);
                 if (nq.z == 0.0 || Relax_PlaneWeight(s, nq.X, 0.05) <= 0.0 || dot(s.Nw, nq.Nw) < 0.8)

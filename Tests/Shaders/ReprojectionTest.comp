@@ -46,7 +46,7 @@ void main()
     gResults[o + 1] = vec4(r.footprintWeight, r.isCatmullRomAllowed ? 1.0 : 0.0, tolerance, float(r.footprint.origin.x));
     gResults[o + 2] = _NRD_BilinearHistory(gHistory, r);
     uint outerTaps = _NRD_CatmullRomOuterTaps(gPrevViewZ, r.footprint, size, in0.z, tolerance);
-    gResults[o + 3] = r.isCatmullRomAllowed ? _NRD_CatmullRomHistory(gHistory, r.footprint, size) : vec4(0.0);
+    gResults[o + 3] = r.isCatmullRomAllowed ? _NRD_CatmullRomHistory(gHistory, r.footprint, size, outerTaps) : vec4(0.0);
     gResults[o + 4] = vec4(uvVirtual, _NRD_SpecularDominantFactor(in1.w), _NRD_ParallaxInPixels(uvSurface, uvVirtual, vec2(size)));
     gResults[o + 5] = _NRD_CatmullRomWeights(r.footprint.f.x);
     vec4 gathered = _NRD_GatherFootprint(gPrevViewZ, r.footprint.origin, size);
