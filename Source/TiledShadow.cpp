@@ -68,7 +68,7 @@ public:
         ResourceRef mv = App(ResourceType::IN_MV), out = App(ResourceType::OUT_SHADOW_TRANSLUCENCY);
 
         m_Prepare = builder.AddDispatch<passes::TiledShadow_Prepare>(
-            "TILED_SHADOW - Prepare", {App(ResourceType::IN_SHADOW_VISIBILITY), mask});
+            "TILED_SHADOW - Prepare", {App(ResourceType::IN_SHADOW_VISIBILITY), App(ResourceType::IN_VIEWZ), mask});
         // The same pass over the prepared masks or the application's (isBitmaskInput).
         m_Classify[0] = builder.AddDispatch<passes::TiledShadow_Classify>(
             "TILED_SHADOW - Classify", {mask, viewZ, normal, mv, state, shadowA, moments, tileClass, out, counters});

@@ -177,7 +177,8 @@ struct Case
 // of 1 is decided by the relMSE summed over kSeeds (the runs with and without confidence share each
 // seed): the mean excess, not one draw of it (Shaders/Confidence/README.md, "One seed against
 // several"). The CI cases read the scene's seed only (their trailing light is what they assert).
-// Pairs that miss issue 16's bar over kSeeds (lavapipe, 64x64, 40 frames): RELAX_DIFFUSE on mesh_thin
+// Pairs that miss issue 16's bar over kSeeds (lavapipe, 64x64, 40 frames): REBLUR_SPECULAR on
+// fast_occluder (below), RELAX_DIFFUSE on mesh_thin
 // (RELAX's diffuse change test keeps its histories at 3 frames where the spider's thin shadows move;
 // the sample test's floor where the confidence dips just below 1 costs 0.05%, and moving_light needs
 // it; 0.9998x on the NVIDIA H200; 1.0015x before RELAX_DIFFUSE_CONFIDENCE_NARROWING_KNEE). It is
@@ -195,6 +196,10 @@ struct Shortfall
 };
 const Shortfall kShortfalls[] = {
     {"mesh_thin", "RELAX_DIFFUSE", 64, 1.003, false}, // 1.00062x over seeds 1-6
+    // 1.00075x over seeds 1-6 (1.0005x at the scene's seed): 0.99904x while the sky's samples, whatever
+    // the application leaves there, entered the specular 3x3 neighbourhood; per frame the ratio
+    // wanders 0.96x-1.07x either way.
+    {"fast_occluder", "REBLUR_SPECULAR", 64, 1.003, false},
 };
 
 // Seeds of the decision over several runs, and how far from 1 a ratio at the scene's seed is left to it.
@@ -274,8 +279,9 @@ TEST_CASE("REBLUR and RELAX with CONFIDENCE: relMSE no higher and the light no l
     // fast_occluder's speculars: the box's shadow sweeps the far floor; the local limit keeps the
     // a-trous filter from cutting the whole floor's histories (64x64: REBLUR_SPECULAR 1.011x ->
     // 0.999x, RELAX_SPECULAR 1.004x -> 0.992x with localGradientRadius 3), and REBLUR specular's
-    // restarted histories keep the history fix for the debt's frames (0.998x).
-    CheckLightingChange({"fast_occluder", "REBLUR_SPECULAR", 40});
+    // restarted histories keep the history fix for the debt's frames (0.998x). REBLUR_SPECULAR is
+    // pinned since the sky's samples left its 3x3 neighbourhood (kShortfalls): decided over seeds.
+    CheckLightingChange({"fast_occluder", "REBLUR_SPECULAR", 40}, false, true);
     CheckLightingChange({"fast_occluder", "RELAX_SPECULAR", 40});
 }
 

@@ -83,7 +83,12 @@ struct Inputs
         truth.assign(n, 1.0f);
     }
 
-    bool IsLit(uint32_t x, uint32_t y) const { return !(visibility[size_t(y) * width + x] < 0.5f); }
+    // The mask bit: sky pixels are lit whatever their visibility holds (the prepare pass; an
+    // application that writes IN_SHADOW_BITMASK sets them too).
+    bool IsLit(uint32_t x, uint32_t y) const
+    {
+        return !(visibility[size_t(y) * width + x] < 0.5f) || IsSky(x, y) || !(viewZ[size_t(y) * width + x] <= 500000.0f);
+    }
     bool IsSky(uint32_t x, uint32_t y) const
     {
         float z = viewZ[size_t(y) * width + x];
@@ -665,8 +670,10 @@ TEST_CASE("TILED_SHADOW skips exactly the tiles with uniform neighbourhoods", "[
             if (y < 10)
             {
                 in.viewZ[i] = std::numeric_limits<float>::infinity();
-                in.visibility[i] = x < 60 ? 1.0f : float((x + y) & 1); // Noisy sky: not uniform on the right.
+                in.visibility[i] = x < 60 ? 1.0f : float((x + y) & 1); // Noisy sky input: read as lit.
             }
+            else if (y < 14 && x >= 60)
+                in.visibility[i] = float((x + y) & 1); // Noise under the sky: its tiles are not uniform.
         }
     std::vector<TileClass> expected = TileClassesReference(in);
     uint32_t tilesX = (w + 7) / 8, tilesY = (h + 3) / 4;

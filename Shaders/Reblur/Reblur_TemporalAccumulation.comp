@@ -185,7 +185,7 @@ void main()
 #else
     const int R = REBLUR_ANTILAG_RADIUS;
 #endif
-    // Neighbourhood of this frame's input (traced, finite samples; diffuse: on the same surface).
+    // Neighbourhood of this frame's input (traced, finite samples, not sky; diffuse: on the same surface).
     float m1 = 0.0, m2 = 0.0, count = 0.0;
     {
         ivec2 maxPixel = ivec2(gResourceSize) - 1;
@@ -202,8 +202,14 @@ void main()
 #endif
                 if (!_Reblur_IsTraced(q) || !_NRD_IsFinite(sq))
                     continue;
-#if !REBLUR_SPECULAR
                 float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+#if REBLUR_SPECULAR
+                // The sky's input is whatever the application left there. (Its taps taking this
+                // pixel's sample instead, as taps beyond the image's border take the border's:
+                // sky 64x64 relMSE +2.5% instead of +0.6%.)
+                if (_NRD_IsSky(zq))
+                    continue;
+#else
                 if (!(abs(zq - viewZ) <= zTolerance))
                     continue;
 #endif

@@ -515,8 +515,8 @@ void main()
                 {
                     ivec2 q = clamp(pixel + ivec2(i, j), ivec2(0), ivec2(gResourceSize) - 1);
                     float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y;
-                    // NaN, negative and lit (NRD_FP16_MAX) read as no penumbra.
-                    if (p >= 0.0 && p < NRD_FP16_MAX * 0.75)
+                    // NaN, negative and lit (NRD_FP16_MAX) read as no penumbra; sky holds none.
+                    if (p >= 0.0 && p < NRD_FP16_MAX * 0.75 && !_NRD_IsSky(texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x))
                         widest = max(widest, min(p * gProjectY, 16384.0));
                 }
             }
@@ -948,7 +948,8 @@ void main()
         {
             ivec2 q = clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), ivec2(gResourceSize) - 1);
             vec3 Nq = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_Normal, gNearestClamp), q, 0)).xyz;
-            isTurned = dot(N, Nq) < TS_TURNED_NORMAL_COS; // The centre itself never is.
+            // The centre itself never is; sky has no normal.
+            isTurned = dot(N, Nq) < TS_TURNED_NORMAL_COS && !_NRD_IsSky(texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x);
         }
         if (isTurned)
         {

@@ -3,7 +3,9 @@
 
 // TILED_SHADOW prepare (document 000, "Denoiser shadows prepare"): one invocation builds one tile's
 // 32-bit mask from its 8x4 visibility samples. No subgroup operation, so any subgroup size works;
-// an application whose ray pass writes IN_SHADOW_BITMASK directly skips this pass.
+// an application whose ray pass writes IN_SHADOW_BITMASK directly skips this pass. Sky pixels are
+// lit whatever their input holds (nothing is traced there): the classification's neighbourhood
+// counts their bits.
 
 #include "Bindings.glsl"
 #include "TiledShadow_Prepare.resources.h"
@@ -26,7 +28,11 @@ void main()
             // Pixels outside the image count as lit (the classification ignores them anyway).
             bool isLit = true;
             if (all(lessThan(uvec2(pixel), gResourceSize)))
+            {
                 isLit = !(texelFetch(sampler2D(gIn_Visibility, gNearestClamp), pixel, 0).x < 0.5); // NaN: lit.
+                // Only a shadowed sample needs its depth (most are lit: half the bandwidth).
+                isLit = isLit || _NRD_IsSky(texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), pixel, 0).x);
+            }
             mask |= isLit ? (1u << uint(x + TS_TILE_W * y)) : 0u;
         }
     }
