@@ -32,6 +32,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 using namespace nrd;
@@ -209,6 +210,9 @@ struct Case
     // traced), finite or NaN; the outputs must be the same bit for bit on every frame.
     bool skyInputsGarbage = false;
     bool skyInputsNaN = false;
+    // If set: method settings given before every frame, by frames since the history started (the
+    // pools cases of MethodTraits::poolVariants: a moving light, checkerboard, confidence inputs).
+    std::function<SettingsCall(uint32_t frame)> frameSettings;
 };
 
 // Documented recovery (README.md, "Out-of-contract inputs"): frames after the last disturbance
@@ -222,6 +226,9 @@ struct MethodTraits
     SettingsCall applyDefaults;                      // Default settings of the method.
     std::vector<SettingsCall> discoveryVariants;     // Settings that change which inputs are read.
     std::vector<Case> settingsCases;                 // At the documented limits.
+    // Settings under which the pools cases (tag pools) run again: the paths that the defaults leave
+    // alone (Case::frameSettings).
+    std::vector<std::pair<std::string, std::function<SettingsCall(uint32_t frame)>>> poolVariants;
     // Another method whose dispatches include every dispatch of this one (same passes, same
     // shaders): its cases stand for this method's, which are not registered again (CI time).
     Method coveredBy = Method::MAX_NUM;
@@ -242,6 +249,28 @@ SettingsCall Edited(Edit edit)
     T settings;
     edit(settings);
     return Apply(settings);
+}
+
+// Moving lights of the pools variants (SigmaSettings, TiledShadowSettings), by frame: a sun turning
+// 0.004 radian a frame (0.4 of a penumbra radius), a sphere light moving 0.05 units a frame 10 units
+// away (0.5 of a penumbra radius).
+template <class S>
+void TurningSun(uint32_t frame, S& s)
+{
+    float angle = 0.4f + 0.004f * float(frame);
+    s.lightDirection[0] = std::sin(angle);
+    s.lightDirection[1] = 1.0f;
+    s.lightDirection[2] = std::cos(angle);
+    s.tanOfLightAngularRadius = 0.01f;
+}
+
+template <class S>
+void MovingSphereLight(uint32_t frame, S& s)
+{
+    s.lightPosition[0] = 1.0f + 0.05f * float(frame);
+    s.lightPosition[1] = 10.0f;
+    s.lightPosition[2] = -2.0f;
+    s.lightRadius = 0.1f;
 }
 
 Case SettingsCase(const std::string& name, SettingsCall accepted, std::vector<SettingsCall> rejected)
@@ -292,6 +321,8 @@ MethodTraits TraitsOf(Method method)
                          Edited<S>([](S& s) { s.lightDirection[0] = 1e30f; s.lightDirection[1] = -1e30f; s.lightDirection[2] = 1e30f; }),
                          {Edited<S>([](S& s) { s.lightDirection[2] = kInf; })}),
         };
+        t.poolVariants = {{"turning sun", [](uint32_t frame) { return Edited<S>([frame](S& s) { TurningSun(frame, s); }); }},
+                          {"moving sphere light", [](uint32_t frame) { return Edited<S>([frame](S& s) { MovingSphereLight(frame, s); }); }}};
         break;
     }
     case Method::REFERENCE:
@@ -362,6 +393,14 @@ MethodTraits TraitsOf(Method method)
             t.settingsCases.push_back(SettingsCase("debugView " + std::to_string(view),
                                                    Edited<S>([view](S& s) { s.debugView = TiledShadowDebug(view); }),
                                                    {Edited<S>([](S& s) { s.debugView = TiledShadowDebug::MAX_NUM; })}));
+        t.poolVariants = {{"shadow data, turning sun",
+                           [](uint32_t frame) {
+                               return Edited<S>([frame](S& s) {
+                                   s.isShadowDataInput = true;
+                                   TurningSun(frame, s);
+                               });
+                           }},
+                          {"bitmask input", [](uint32_t) { return Edited<S>([](S& s) { s.isBitmaskInput = true; }); }}};
         break;
     }
     case Method::REBLUR_DIFFUSE:
@@ -392,6 +431,8 @@ MethodTraits TraitsOf(Method method)
                          Edited<S>([](S& s) { s.colorCompression = 16.0f; s.antiFireflySigma = 64.0f; }),
                          {Edited<S>([](S& s) { s.colorCompression = 16.5f; })}),
         };
+        t.poolVariants = {{"checkerboard", [](uint32_t) { return Edited<S>([](S& s) { s.checkerboardMode = CheckerboardMode::BLACK; }); }},
+                          {"confidence input", [](uint32_t) { return Edited<S>([](S& s) { s.isConfidenceInput = true; }); }}};
         break;
     }
     case Method::CONFIDENCE:
@@ -457,6 +498,12 @@ MethodTraits TraitsOf(Method method)
         t.recoveryFrames = 24;
         t.applyDefaults = Apply(S{});
         t.discoveryVariants = {Edited<S>([](S& s) { s.useConfidenceInputs = true; })};
+        t.poolVariants = {{"checkerboard, confidence inputs", [](uint32_t) {
+                               return Edited<S>([](S& s) {
+                                   s.checkerboardMode = CheckerboardMode::WHITE;
+                                   s.useConfidenceInputs = true;
+                               });
+                           }}};
         t.settingsCases = {
             SettingsCase("no accumulation",
                          Edited<S>([](S& s) {
@@ -974,6 +1021,9 @@ public:
             REQUIRE(call.integration(m_Integration) == Result::SUCCESS);
             m_BadSettingsActive = f.bad;
         }
+
+        if (c.frameSettings)
+            REQUIRE(c.frameSettings(seed).integration(m_Integration) == Result::SUCCESS);
 
         for (ResourceType type : m_Inputs)
             UploadInput(type, c, f, seed, rw, rh, variant && c.skyInputsGarbage);
@@ -1600,6 +1650,15 @@ bool RegisterCases()
                 cases.push_back(c);
         for (const Case& c : traits.settingsCases)
             cases.push_back(c);
+        for (const auto& variant : traits.poolVariants)
+            for (const Case& c : generic)
+                if (c.tag == "pools")
+                {
+                    Case v = c;
+                    v.name += ", " + variant.first;
+                    v.frameSettings = variant.second;
+                    cases.push_back(v);
+                }
         for (size_t i = 0; i < cases.size(); i++)
         {
             std::string name = std::string(GetMethodString(method)) + " / " + cases[i].name;

@@ -452,12 +452,14 @@ void main()
     float residual = 0.0;
     if (!isReference && historyLength > 0.0)
     {
-        ivec2 size = ivec2(gResourceSize);
         ivec2 nearest = rp.surface.footprint.origin + ivec2(greaterThanEqual(rp.surface.footprint.f, vec2(0.5)));
-        if (all(greaterThanEqual(nearest, ivec2(0))) && all(lessThan(nearest, size)))
-            record = _NRD_LightingChange_UnpackRecord(texelFetch(sampler2D(gPrev_Debt, gNearestClamp), nearest, 0).x);
         float zTolerance1 = gDisocclusionThreshold * 4.0 * viewZ + 4.0 * viewZ / max(gProjectY, NRD_EPS);
         float zTolerancePrev = gDisocclusionThreshold * 4.0 * rp.expectedViewZ + 4.0 * rp.expectedViewZ / max(gProjectY, NRD_EPS);
+        // The record of the nearest texel where it holds the surface, as the taps below (another
+        // surface's is not this one's; the sky's texels were never written).
+        if (all(greaterThanEqual(nearest, ivec2(0))) && all(lessThan(nearest, ivec2(gResourceSize))) &&
+            abs(texelFetch(sampler2D(gPrev_ViewZ, gNearestClamp), nearest, 0).x - rp.expectedViewZ) <= zTolerancePrev)
+            record = _NRD_LightingChange_UnpackRecord(texelFetch(sampler2D(gPrev_Debt, gNearestClamp), nearest, 0).x);
         // The pixel's own tap first: a change needs its |z| at least CHANGE_MIN_RESIDUAL unless the
         // lighting already moves, so most pixels skip the other 24 taps (the same result).
         vec2 zc;
