@@ -196,10 +196,11 @@ struct Case
     uint16_t width = kSize;     // Creation size of the default plan.
     uint16_t height = kSize;
     bool needsBoundedOutputs = false; // Only for methods whose outputs are bounded (not OUT_RADIANCE).
-    // Sub-pixel motion on every frame (IN_MV = -0.37, -0.41 pixel: the previous position lies up
+    // Sub-pixel motion on every frame: 1: IN_MV = -0.37, -0.41 pixel (the previous position lies up
     // and to the left, so the first rows below the sky and the first columns resample the sky's and
-    // the border's history texels).
-    bool subPixelMotion = false;
+    // the border's history texels); -1: the opposite (towards the right and bottom edges, and the
+    // texels beyond a dynamic resolution's region); 0: none.
+    int subPixelMotion = 0;
     // If not 0: the case runs twice, once as planned and once with every byte of the permanent pool
     // set to this pattern before the second frame, which restarts the history (frameIndex 0): what
     // the first frame left, or the memory an application's RHI did not clear. The outputs must be
@@ -752,30 +753,45 @@ std::vector<Case> GenericCases()
     // under camera motion (world-space motion vectors of a still world, the previous camera 0.3
     // units up and left of this one: 0.72 pixel at 48x48; the path of the plane tests and of
     // specular virtual motion).
+    // With a dynamic resolution (resourceSize 40x36 of 48x48 after a first frame at the whole size) the
+    // motion is the opposite, towards the region's right and bottom edges: the texels beyond them are
+    // not written after the restart either.
+    auto poolCase = [](bool camera, uint8_t fill, bool dynamic) {
+        std::string name = std::string("restart over a permanent pool of ") + (fill == 0xff ? "all ones (NaN)" : "0x3f bytes") +
+                           (camera ? ", camera motion" : ", sub-pixel motion") +
+                           (dynamic ? " towards the region's edge, dynamic resolution" : "");
+        Case c = SequenceCase(name, [camera, dynamic](uint32_t) {
+            std::vector<FramePlan> plan = CleanFrames(1);
+            for (const FramePlan& f : CleanFrames(10))
+                plan.push_back(f); // frameIndex 0 again: a restart.
+            for (size_t t = 0; t < plan.size(); t++)
+            {
+                plan[t].bad = camera; // The camera edit applies to every frame.
+                // The first frame at the whole size, so that the texels beyond the region hold a
+                // history of the same surfaces where the pool is not filled.
+                plan[t].resourceWidth = dynamic && t > 0 ? 40 : 0;
+                plan[t].resourceHeight = dynamic && t > 0 ? 36 : 0;
+            }
+            return plan;
+        });
+        c.tag = "pools";
+        c.permanentPoolFill = fill;
+        c.subPixelMotion = camera ? 0 : dynamic ? -1 : 1;
+        float shift = dynamic ? 0.3f : -0.3f;
+        if (camera)
+            c.editCommon = [shift](CommonSettings& s) {
+                s.isMotionVectorInWorldSpace = true;
+                s.worldToViewMatrixPrev[12] = shift; // Column-major: the translation column.
+                s.worldToViewMatrixPrev[13] = shift;
+            };
+        return c;
+    };
     for (bool camera : {false, true})
+    {
         for (uint8_t fill : {uint8_t(0x3f), uint8_t(0xff)})
-        {
-            std::string name = std::string("restart over a permanent pool of ") +
-                               (fill == 0xff ? "all ones (NaN)" : "0x3f bytes") + (camera ? ", camera motion" : ", sub-pixel motion");
-            Case c = SequenceCase(name, [camera](uint32_t) {
-                std::vector<FramePlan> plan = CleanFrames(1);
-                for (const FramePlan& f : CleanFrames(10))
-                    plan.push_back(f); // frameIndex 0 again: a restart.
-                for (FramePlan& f : plan)
-                    f.bad = camera; // The camera edit applies to every frame.
-                return plan;
-            });
-            c.tag = "pools";
-            c.permanentPoolFill = fill;
-            c.subPixelMotion = !camera;
-            if (camera)
-                c.editCommon = [](CommonSettings& s) {
-                    s.isMotionVectorInWorldSpace = true;
-                    s.worldToViewMatrixPrev[12] = -0.3f; // Column-major: the translation column.
-                    s.worldToViewMatrixPrev[13] = -0.3f;
-                };
-            cases.push_back(c);
-        }
+            cases.push_back(poolCase(camera, fill, false));
+        cases.push_back(poolCase(camera, 0xff, true));
+    }
     // The sky's inputs hold garbage (finite, NaN) under sub-pixel motion: nothing of them reaches a
     // surface pixel's output (sky taps carry no weight anywhere, also in neighbourhood statistics).
     // The sky pixels' own outputs are left out (a method that does not read viewZ, REFERENCE,
@@ -785,7 +801,7 @@ std::vector<Case> GenericCases()
         Case c = SequenceCase(nan ? "sky inputs NaN, sub-pixel motion" : "sky inputs garbage, sub-pixel motion",
                               [](uint32_t) { return CleanFrames(10); });
         c.tag = "pools";
-        c.subPixelMotion = true;
+        c.subPixelMotion = 1;
         c.skyInputsGarbage = true;
         c.skyInputsNaN = nan;
         cases.push_back(c);
@@ -1116,10 +1132,10 @@ private:
                 switch (type)
                 {
                 case ResourceType::IN_MV:
-                    if (c.subPixelMotion)
+                    if (c.subPixelMotion != 0)
                     {
-                        p[0] = -0.37f / float(rw);
-                        p[1] = -0.41f / float(rh);
+                        p[0] = -0.37f * float(c.subPixelMotion) / float(rw);
+                        p[1] = -0.41f * float(c.subPixelMotion) / float(rh);
                     }
                     break;
                 case ResourceType::IN_NORMAL_ROUGHNESS:
@@ -1533,12 +1549,17 @@ void RunCase(Method method, const Case& c)
                 REQUIRE(a.size() == b.size());
                 size_t differ = 0, first = a.size();
                 for (size_t i = 0; i < a.size(); i++)
-                    if (std::memcmp(&a[i], &b[i], sizeof(float)) != 0 &&
-                        !(c.skyInputsGarbage && IsSkyRow(uint32_t(i / 4 / records[t].width), records[t].regionHeight)))
+                {
+                    // Within the region (outputs beyond it are not written).
+                    uint32_t x = uint32_t(i / 4 % records[t].width), y = uint32_t(i / 4 / records[t].width);
+                    if (x >= records[t].regionWidth || y >= records[t].regionHeight)
+                        continue;
+                    if (std::memcmp(&a[i], &b[i], sizeof(float)) != 0 && !(c.skyInputsGarbage && IsSkyRow(y, records[t].regionHeight)))
                     {
                         differ++;
                         first = std::min(first, i);
                     }
+                }
                 if (std::getenv("NRD_ROBUSTNESS_VERBOSE") && differ)
                 {
                     std::printf("frame %zu output %zu:\n", t, o);
