@@ -1053,7 +1053,7 @@ public:
             REQUIRE(c.frameSettings(seed).integration(m_Integration) == Result::SUCCESS);
 
         for (ResourceType type : m_Inputs)
-            UploadInput(type, c, f, seed, rw, rh, variant && c.skyInputsGarbage);
+            UploadInput(type, c, f, seed, rw, rh, variant && c.skyInputsGarbage, variant && c.permanentPoolFill);
 
         if (!f.skipCommonSettings)
         {
@@ -1121,8 +1121,10 @@ private:
         return num ? sum / double(num) : 0.0;
     }
 
+    // 'outsideGarbage': the texels beyond a dynamic resolution's region hold NaN (bitmasks: a
+    // pattern), what a larger render target holds there.
     void UploadInput(ResourceType type, const Case& c, const FramePlan& f, uint32_t seed, uint32_t rw, uint32_t rh,
-                     bool skyGarbage)
+                     bool skyGarbage, bool outsideGarbage)
     {
         lab::LabTexture& texture = m_Textures[type];
         if (type == ResourceType::IN_SHADOW_BITMASK)
@@ -1132,7 +1134,8 @@ private:
             for (uint32_t y = 0; y < texture.height * 4; y++)
                 for (uint32_t x = 0; x < texture.width * 8; x++)
                 {
-                    bool lit = x >= rw || y >= rh || Visibility(seed, x, y, rw) > 0.5f;
+                    bool outside = x >= rw || y >= rh;
+                    bool lit = outside ? !outsideGarbage || (x + 3 * y) % 5 < 2 : Visibility(seed, x, y, rw) > 0.5f;
                     if (lit)
                         bits[size_t(y / 4) * texture.width + x / 8] |= 1u << ((x % 8) + 8 * (y % 4));
                 }
@@ -1209,6 +1212,12 @@ private:
                     for (int ch = 0; ch < 4; ch++)
                         p[ch] = c.skyInputsNaN ? kNaN : finite[ch];
                 }
+                // IN_GRADIENTS: a texel per 3x3 stratum of the region.
+                uint32_t regionW = type == ResourceType::IN_GRADIENTS ? (rw + 2) / 3 : rw;
+                uint32_t regionH = type == ResourceType::IN_GRADIENTS ? (rh + 2) / 3 : rh;
+                if (outsideGarbage && (x >= regionW || y >= regionH))
+                    for (int ch = 0; ch < 4; ch++)
+                        p[ch] = kNaN;
             }
         REQUIRE(m_Context.UploadTexture(texture, pixels.data()) == VK_SUCCESS);
     }
