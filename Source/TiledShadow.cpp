@@ -59,6 +59,7 @@ public:
         ResourceRef shadowB = builder.AddTransientTexture(Format::RG16_SFLOAT);
         ResourceRef moments = builder.AddTransientTexture(Format::R32_UINT);
         ResourceRef state = builder.AddPermanentTexture(Format::RG32_UINT);
+        m_InvStateSize = {1.0f / float(builder.RenderWidth()), 1.0f / float(builder.RenderHeight())};
         BufferDesc countersDesc;
         countersDesc.size = kCountersBytes;
         countersDesc.isPermanent = true;
@@ -180,6 +181,7 @@ public:
         c.gDebugView = uint32_t(s.debugView);
         c.gCounterSlot = m_MethodFrame & 1u;
         c.gMethodFrame = m_MethodFrame;
+        c.gInvStateSize = m_InvStateSize;
         if (s.isShadowDataInput)
         {
             SetShadowLightMotion(m_LightMotion, s, frame, c);
@@ -210,6 +212,7 @@ private:
     ShadowLightMotion m_LightMotion;
     uint32_t m_Filter[3] = {};
     uint32_t m_MethodFrame = 0;
+    glsl::vec2 m_InvStateSize = {}; // The permanent state's texel size in uv (the render size's).
 };
 
 static_assert(sizeof(passes::TiledShadow_Filter1::Constants) == sizeof(passes::TiledShadow_Filter2::Constants) &&

@@ -573,8 +573,8 @@ void main()
             nearestK = ivec2(greaterThanEqual(f, vec2(0.5))) + 1;
             // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from the block's first texel; block b
             // starts at origin - 1 + 2 (b & 1, b >> 1). Gather coordinates are normalized by the
-            // texture's size, which a dynamic resolution's region (gResourceSize) is smaller than.
-            vec2 invStateSize = 1.0 / vec2(textureSize(usampler2D(gPrev_State, gNearestClamp), 0));
+            // texture's size (gInvStateSize), which a dynamic resolution's region (gResourceSize) is
+            // smaller than.
             const ivec2 offsets[4] = ivec2[4](ivec2(0, 1), ivec2(1, 1), ivec2(1, 0), ivec2(0, 0));
             // First the depths: which of the 16 texels hold this surface (bit 4 k.y + k.x), and the
             // previous local mean of the inner 2x2 (the only texels whose local mean is read).
@@ -583,7 +583,7 @@ void main()
             for (int block = 0; block < 4; block++)
             {
                 ivec2 blockOrigin = origin + ivec2((block & 1) * 2 - 1, (block >> 1) * 2 - 1);
-                vec2 gatherUv = (vec2(blockOrigin) + 1.0) * invStateSize;
+                vec2 gatherUv = (vec2(blockOrigin) + 1.0) * gInvStateSize;
                 uvec4 viewZs = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 0);
                 for (int i = 0; i < 4; i++)
                 {
@@ -607,7 +607,7 @@ void main()
             for (int block = 0; block < 4; block++)
             {
                 ivec2 blockOrigin = origin + ivec2((block & 1) * 2 - 1, (block >> 1) * 2 - 1);
-                vec2 gatherUv = (vec2(blockOrigin) + 1.0) * invStateSize;
+                vec2 gatherUv = (vec2(blockOrigin) + 1.0) * gInvStateSize;
                 uvec4 histories = textureGather(usampler2D(gPrev_State, gNearestClamp), gatherUv, 1);
                 for (int i = 0; i < 4; i++)
                 {
