@@ -21,7 +21,9 @@ enum class AccumulationMode : uint8_t
 // Matrices are column-major (m[column * 4 + row]) and non-jittered. viewToClip is a perspective
 // projection whose clip w equals the positive view depth (IN_VIEWZ): w = +z or w = -z, so both
 // right- and left-handed view spaces work. Clip space is Vulkan's: x, y in [-1, 1], y down, so
-// uv = (ndc.xy * 0.5 + 0.5) addresses the texture with v growing downwards.
+// uv = (ndc.xy * 0.5 + 0.5) addresses the texture with v growing downwards. The world may lie far
+// from its origin: the denoisers work relative to the camera (products formed in double), so only
+// the precision of the float matrices themselves limits them.
 struct CommonSettings
 {
     float viewToClipMatrix[16] = {};

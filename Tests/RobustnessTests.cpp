@@ -211,6 +211,10 @@ struct Case
     // traced), finite or NaN; the outputs must be the same bit for bit on every frame.
     bool skyInputsGarbage = false;
     bool skyInputsNaN = false;
+    // If not 0: the case runs twice, the second time with the world's origin this far from the
+    // camera on every axis (the camera matrices translated; the camera stays still): the outputs
+    // must be the same bit for bit (the passes' world space is camera-relative).
+    float worldOriginVariant = 0.0f;
     // If set: method settings given before every frame, by frames since the history started (the
     // pools cases of MethodTraits::poolVariants: a moving light, checkerboard, confidence inputs).
     std::function<SettingsCall(uint32_t frame)> frameSettings;
@@ -806,6 +810,15 @@ std::vector<Case> GenericCases()
         c.skyInputsNaN = nan;
         cases.push_back(c);
     }
+    // A world far from the origin (100 km, a large level without origin rebasing): the same outputs,
+    // bit for bit, as at the origin, under sub-pixel motion (a still camera: only the origin moves).
+    {
+        Case c = SequenceCase("a world 1e5 units from the origin, sub-pixel motion", [](uint32_t) { return CleanFrames(10); });
+        c.tag = "pools";
+        c.subPixelMotion = 1;
+        c.worldOriginVariant = 1e5f;
+        cases.push_back(c);
+    }
     cases.push_back(SequenceCase("dynamic resolution down then up", [](uint32_t r) {
         std::vector<FramePlan> plan = CleanFrames(kWarmFrames);
         FramePlan small;
@@ -1034,7 +1047,8 @@ public:
 
     // 'seed': the noise of the signal inputs (frames since the history started, so that a restart
     // replays the clean run's inputs).
-    // 'variant': the second run of a case compared bit for bit (Case::skyInputsGarbage).
+    // 'variant': the second run of a case compared bit for bit (Case::skyInputsGarbage,
+    // permanentPoolFill, worldOriginVariant).
     void RunFrame(const Case& c, const FramePlan& f, uint32_t seed, FrameRecord& record, bool variant = false)
     {
         if (f.width != m_Width || f.height != m_Height)
@@ -1061,6 +1075,11 @@ public:
             settings.accumulationMode = f.mode;
             if (f.bad && c.editCommon)
                 c.editCommon(settings);
+            if (variant && c.worldOriginVariant != 0.0f)
+                for (float* m : {settings.worldToViewMatrix, settings.worldToViewMatrixPrev})
+                    for (int row = 0; row < 3; row++)
+                        m[12 + row] -= c.worldOriginVariant; // Column-major, rotation identity.
+
             REQUIRE(m_Integration.SetCommonSettings(settings) == Result::SUCCESS);
         }
 
@@ -1479,7 +1498,8 @@ struct WorldCleanup : Catch::TestEventListenerBase
 //==================================================================================================
 
 // 'variant': the second run of a case compared bit for bit: the permanent pool filled before the
-// second frame (Case::permanentPoolFill), the sky's inputs garbage (Case::skyInputsGarbage).
+// second frame (Case::permanentPoolFill), the sky's inputs garbage (Case::skyInputsGarbage), the
+// world's origin moved (Case::worldOriginVariant).
 void RunPlan(Rig& rig, const Case& c, const std::vector<FramePlan>& plan, std::vector<FrameRecord>& records,
              bool variant = false)
 {
@@ -1584,10 +1604,10 @@ void RunCase(Method method, const Case& c)
     std::vector<FrameRecord> records;
     RunPlan(rig, c, plan, records);
 
-    if (c.permanentPoolFill || c.skyInputsGarbage)
+    if (c.permanentPoolFill || c.skyInputsGarbage || c.worldOriginVariant != 0.0f)
     {
-        // The same frames over a permanent pool of garbage, or with garbage in the sky's inputs: the
-        // same outputs, bit for bit.
+        // The same frames over a permanent pool of garbage, with garbage in the sky's inputs, or in a
+        // world far from the origin: the same outputs, bit for bit.
         std::vector<FrameRecord> filled;
         RunPlan(rig, c, plan, filled, true);
         for (size_t t = 0; t < plan.size(); t++)
@@ -1729,7 +1749,7 @@ bool RegisterCases()
             cases.push_back(c);
         for (const auto& variant : traits.poolVariants)
             for (const Case& c : generic)
-                if (c.tag == "pools")
+                if (c.tag == "pools" && c.worldOriginVariant == 0.0f)
                 {
                     Case v = c;
                     v.name += ", " + variant.first;

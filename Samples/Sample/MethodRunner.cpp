@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -93,7 +94,8 @@ bool ResolveMethod(const RunOptions& o, MethodIo& io, std::string& error)
 // Reads the common settings and the method's own settings object; other methods' keys are
 // accepted (one settings file may serve several methods), unknown keys are not.
 bool ParseSettings(const std::string& text, nrd::CommonSettings& common, MethodAdapter& adapter, bool& motion3d,
-                   bool& motionNone, std::string& error, std::vector<uint32_t>* restartFrames = nullptr)
+                   bool& motionNone, std::string& error, std::vector<uint32_t>* restartFrames = nullptr,
+                   std::array<double, 3>* worldOrigin = nullptr)
 {
     if (text.empty())
         return true;
@@ -129,6 +131,10 @@ bool ParseSettings(const std::string& text, nrd::CommonSettings& common, MethodA
             // invalidation at known lighting changes, the bound a confidence input can reach.
             if (restartFrames && c.contains("restartFrames"))
                 *restartFrames = c["restartFrames"].get<std::vector<uint32_t>>();
+            // Where the scene lies in the world the denoiser sees (the camera matrices and the
+            // lights' positions move with it): a world far from the origin, as in a large level.
+            if (worldOrigin && c.contains("worldOrigin"))
+                *worldOrigin = c["worldOrigin"].get<std::array<double, 3>>();
         }
         const char* key = adapter.GetSettingsKey();
         if (key && j.contains(key) && !adapter.ParseSettings(j[key], error))
@@ -498,7 +504,8 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
     nrd::CommonSettings common;
     bool motion3d = true, motionNone = false;
     std::vector<uint32_t> restartFrames;
-    if (!ParseSettings(o.settingsJson, common, *io.adapter, motion3d, motionNone, error, &restartFrames))
+    std::array<double, 3> worldOrigin = {0.0, 0.0, 0.0};
+    if (!ParseSettings(o.settingsJson, common, *io.adapter, motion3d, motionNone, error, &restartFrames, &worldOrigin))
         return false;
     if (io.confidence)
     {
@@ -623,6 +630,17 @@ bool RunMethod(const RunOptions& o, RunReport& report, std::string& error)
             memcpy(common.viewToClipMatrix, frame.camera.viewToClip, sizeof(common.viewToClipMatrix));
             memcpy(common.worldToViewMatrixPrev, frame.camera.worldToViewPrev, sizeof(common.worldToViewMatrixPrev));
             memcpy(common.viewToClipMatrixPrev, frame.camera.viewToClipPrev, sizeof(common.viewToClipMatrixPrev));
+            if (worldOrigin[0] != 0.0 || worldOrigin[1] != 0.0 || worldOrigin[2] != 0.0)
+            {
+                // X' = X + origin: worldToView' = worldToView * translate(-origin), rounded to float
+                // as an engine's matrices are.
+                for (float* m : {common.worldToViewMatrix, common.worldToViewMatrixPrev})
+                    for (int row = 0; row < 3; row++)
+                        m[12 + row] = float(double(m[12 + row]) - double(m[row]) * worldOrigin[0] - double(m[4 + row]) * worldOrigin[1] -
+                                            double(m[8 + row]) * worldOrigin[2]);
+                for (int a = 0; a < 3; a++)
+                    frame.light.position[a] = float(double(frame.light.position[a]) + worldOrigin[a]);
+            }
             common.frameIndex = f;
             common.accumulationMode = std::find(restartFrames.begin(), restartFrames.end(), f) != restartFrames.end()
                                           ? nrd::AccumulationMode::RESTART

@@ -2,7 +2,9 @@
 // GLSL (Bindings.glsl) and C++ (Source/PassDecl.h). The core fills them from CommonSettings
 // (FrameContext::FillCommonConstants), so a pass only declares what is specific to it.
 //
-// gViewToWorld       view -> world (current frame)
+// "World" is camera-relative: the world's axes, the origin at the current frame's camera (so that
+// positions keep their precision in float far from the world's origin).
+// gViewToWorld       view -> world (current frame; its translation is 0)
 // gWorldToClipPrev   world -> clip of the previous frame (reprojection)
 // gWorldToViewPrev   world -> view of the previous frame (previous viewZ of a point)
 // gViewToClip        view -> clip (current frame)
