@@ -1452,6 +1452,7 @@ struct World
 {
     std::unique_ptr<lab::VulkanContext> context;
     std::map<Method, std::unique_ptr<Rig>> rigs;
+    std::map<Method, uint32_t> rigUses;
     std::map<std::string, std::vector<double>> baselines;
 
     static World& Get()
@@ -1468,11 +1469,22 @@ struct World
         return *context;
     }
 
+    // A method's rig serves kRigCases cases, then is created again: lavapipe keeps compiling shader
+    // variants for the lifetime of a pipeline, and RELAX's grew the process by about 200 MB a case
+    // (20 GB over one ctest slice of 80 cases, on a 24 GB machine).
+    static constexpr uint32_t kRigCases = 6;
     Rig& GetRig(Method method)
     {
         std::unique_ptr<Rig>& rig = rigs[method];
+        uint32_t& uses = rigUses[method];
+        if (rig && uses >= kRigCases)
+            rig.reset();
         if (!rig)
+        {
             rig.reset(new Rig(Context(), method));
+            uses = 0;
+        }
+        uses++;
         return *rig;
     }
 
