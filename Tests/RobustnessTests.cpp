@@ -203,8 +203,10 @@ struct Case
     int subPixelMotion = 0;
     // If not 0: the case runs twice, once as planned and once with every byte of the permanent pool
     // set to this pattern before the second frame, which restarts the history (frameIndex 0): what
-    // the first frame left, or the memory an application's RHI did not clear. The outputs must be
-    // the same bit for bit on every frame.
+    // the first frame left, or the memory an application's RHI did not clear. That run also sets the
+    // transient pool and the outputs to the pattern before every frame, and the inputs' texels beyond
+    // a dynamic resolution's region to NaN (Rig::FillTransientsAndOutputs, UploadInput). The outputs
+    // must be the same bit for bit on every frame, and none beyond the region written.
     uint8_t permanentPoolFill = 0;
     // If set: the case runs twice, once as planned and once with the sky pixels' other inputs set to
     // garbage (signals, normals, roughness, confidence: what an engine leaves where nothing was
