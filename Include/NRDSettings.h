@@ -362,8 +362,10 @@ constexpr float REBLUR_MAX_BLUR_RADIUS = 64.0f;
 // stalling just below 1 in fp16 storage). Ranges in brackets; INVALID_ARGUMENT outside.
 struct ConfidenceSettings
 {
-    // Normalized gradients up to this value are noise: confidence stays 1, [0, 1).
-    float gradientThreshold = 0.05f;
+    // Normalized gradients up to this value are noise: confidence stays 1, [0, 1). 0.03 suits
+    // gradients that re-shade the same light sample on both frames (exact up to fp16); noisier
+    // gradients (a reservoir's sample that changed) want it higher (Shaders/Confidence/README.md).
+    float gradientThreshold = 0.03f;
 
     // Slope of the diffuse confidence above the threshold: confidence reaches 0 at a normalized
     // gradient of gradientThreshold + 1 / gradientSensitivity, [1, 1000]. With 1, REBLUR's and
