@@ -521,6 +521,19 @@ void main()
                 antilag = 0.0;
         }
         historyLength = min(historyLength * antilag, gMaxStabilizedFrameNum);
+        // While the light moves, a lit hard-shadow sample under dark history (below 1 -
+        // HARD_SHADOW_ARRIVAL) next to a lit neighbour is output as it is: the shadow left the pixel.
+        // The motion estimate below cannot say so where the dark neighbours' penumbra estimate is 0
+        // (it prefers the smaller penumbrae; a shadow near its occluder's contact): there it read
+        // "not carried" and the history kept the pixel at 1/6 for frames (moving_light 64x64, truth 1).
+        if (isHardShadow && isLightMoving && _Sigma_MaxComponent(current) >= 0.5 && _Sigma_MaxComponent(current - history) > HARD_SHADOW_ARRIVAL)
+        {
+            int litNum = 0;
+            for (int j = -1; j <= 1; j++)
+                for (int i = -1; i <= 1; i++)
+                    litNum += (i != 0 || j != 0) && _Sigma_MaxComponent(s_Signal[c.y + j][c.x + i]) >= 0.5 ? 1 : 0;
+            isPassed = isPassed || litNum >= 1;
+        }
         // A hard shadow that the light's move carried (ShadowMotion.glsl) keeps no more frames than hold
         // NRD_SHADOW_MOTION_HISTORY_PIXELS of its motion: older ones are the shadow where it was.
         if (isHardShadow && shadowMotion > 0.0)
