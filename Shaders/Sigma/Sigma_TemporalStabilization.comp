@@ -131,6 +131,18 @@ uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, boo
            (isLit && isLitTwice ? HISTORY_LIT_TWICE_BIT : 0u);
 }
 
+// Lit samples (blurred signal at least 0.5) among the 8 neighbours of shared-memory position 'c'.
+int LitNeighbourNum(ivec2 c)
+{
+    int litNum = 0;
+    for (int j = -1; j <= 1; j++)
+    {
+        for (int i = -1; i <= 1; i++)
+            litNum += (i != 0 || j != 0) && _Sigma_MaxComponent(s_Signal[c.y + j][c.x + i]) >= 0.5 ? 1 : 0;
+    }
+    return litNum;
+}
+
 // A hard shadow's pixel at 'q' of the previous frame (no resampling) with sample 'currentValue' now
 // and 'packed' there: 0 unless lit now under dark history (lit sample minus history above
 // HARD_SHADOW_ARRIVAL), 1 if so, 2 if its sample was lit there too (lit for the second frame in a row).
@@ -405,13 +417,7 @@ void main()
     bool isPassed = false;
     if (isHardShadow && isMovingTile)
     {
-        int litNum = 0;
-        for (int j = -1; j <= 1; j++)
-        {
-            for (int i = -1; i <= 1; i++)
-                litNum += (i != 0 || j != 0) && _Sigma_MaxComponent(s_Signal[c.y + j][c.x + i]) >= 0.5 ? 1 : 0;
-        }
-        isPassed = _Sigma_MaxComponent(current) < 0.5 || litNum >= 1 || wasLit;
+        isPassed = _Sigma_MaxComponent(current) < 0.5 || LitNeighbourNum(c) >= 1 || wasLit;
     }
 
     if (!isInside)
@@ -527,13 +533,7 @@ void main()
         // (it prefers the smaller penumbrae; a shadow near its occluder's contact): there it read
         // "not carried" and the history kept the pixel at 1/6 for frames (moving_light 64x64, truth 1).
         if (isHardShadow && isLightMoving && _Sigma_MaxComponent(current) >= 0.5 && _Sigma_MaxComponent(current - history) > HARD_SHADOW_ARRIVAL)
-        {
-            int litNum = 0;
-            for (int j = -1; j <= 1; j++)
-                for (int i = -1; i <= 1; i++)
-                    litNum += (i != 0 || j != 0) && _Sigma_MaxComponent(s_Signal[c.y + j][c.x + i]) >= 0.5 ? 1 : 0;
-            isPassed = isPassed || litNum >= 1;
-        }
+            isPassed = isPassed || LitNeighbourNum(c) >= 1;
         // A hard shadow that the light's move carried (ShadowMotion.glsl) keeps no more frames than hold
         // NRD_SHADOW_MOTION_HISTORY_PIXELS of its motion: older ones are the shadow where it was.
         if (isHardShadow && shadowMotion > 0.0)
