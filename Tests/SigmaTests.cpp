@@ -891,6 +891,50 @@ TEST_CASE("SIGMA keeps no history of hard shadows that a moving light carries", 
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+TEST_CASE("SIGMA outputs the lit samples that a moving light's shadow leaves, also beside a zero penumbra", "[vulkan][sigma]")
+{
+    // A hard shadow edge whose shadowed samples report a penumbra of 0 (a contact shadow: the motion
+    // estimate of ShadowMotion.glsl reads 0 there) leaves one pixel a frame, without motion vectors.
+    // While a sphere light moves, every pixel that its departure lights outputs its lit sample; with
+    // the light still, the dark history keeps such pixels below 0.5 (the lit column has two departed
+    // neighbours only, under the departure rows' three). On lavapipe: 0 and 256 (4 of the 7 lit columns,
+    // every row); 256 and 256 before the rule (Shaders/Sigma/README.md, "Lit samples under dark history
+    // while the light moves").
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    auto run = [&](float step)
+    {
+        Scene scene;
+        scene.width = 64;
+        scene.height = 64;
+        scene.penumbraRadius = 1e-4f;
+        scene.edgeAngle = 0.0f; // A vertical edge: x > 32 - frame lit.
+        SigmaRig rig(*context, Method::SIGMA_SHADOW, scene);
+        rig.Create();
+        size_t darkened = 0;
+        for (uint32_t frame = 0; frame < 8; frame++)
+        {
+            SigmaSettings settings = {};
+            test::SetMovingTestLight(settings, false, 0.1f, step, frame, kPlaneViewZ);
+            REQUIRE(rig.integration.SetMethodSettings(SIGMA_ID, settings) == Result::SUCCESS);
+            rig.scene.edgeOffset = -float(frame);
+            FrameData f = MakeFrame(rig.scene, 15000 + frame);
+            for (size_t i = 0; i < f.shadowData.size(); i += 2)
+                f.shadowData[i + 1] = f.shadowData[i] == 0.0f ? 0.0f : f.shadowData[i + 1];
+            std::vector<float> output = rig.Frame(frame, f);
+            REQUIRE(AllFinite(output));
+            for (size_t i = 0; frame > 0 && i < output.size(); i += 4)
+                darkened += f.noisy[i] == 1.0f && output[i] < 0.5f;
+        }
+        return darkened;
+    };
+    size_t moving = run(0.12f), still = run(0.0f);
+    INFO("lit samples output below 0.5 over 7 frames: moving light " << moving << ", still light " << still);
+    CHECK(moving == 0);
+    CHECK(still >= 64);
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
 TEST_CASE("SIGMA reads no history of the sky under motion", "[vulkan][sigma]")
 {
     // A penumbra that reaches the sky (the top quarter), moving a fraction of a pixel a frame on both
