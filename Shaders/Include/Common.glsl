@@ -18,6 +18,30 @@ vec4 _NRD_Sanitize(vec4 v, float replacement)
                 _NRD_Sanitize(v.w, replacement));
 }
 
+// 'x', a blend of an fp16 'history' towards 'target'; where it lies less than one fp16 step from the
+// history, the next fp16 value towards the target instead. A history that blends a fraction of the
+// way towards a constant input each frame then reaches it exactly; stored as it is, the step would
+// round back onto the history once it is below half an fp16 step (a lit pixel's history of
+// 1 - 2^-11 blended by 1/6 towards 1 stays 1 - 2^-11), or below a whole one where stores round
+// towards zero (some GPUs do). Larger steps are left to the store's rounding.
+uint _NRD_Fp16StepUp(uint h) { return (h & 0x8000u) == 0u ? h + 1u : (h == 0x8000u ? 1u : h - 1u); }
+uint _NRD_Fp16StepDown(uint h) { return (h & 0x8000u) != 0u ? h + 1u : (h == 0u ? 0x8001u : h - 1u); }
+float _NRD_Fp16Converge(float x, float history, float target)
+{
+    uint h = packHalf2x16(vec2(history, 0.0)) & 0xFFFFu;
+    float stored = unpackHalf2x16(h).x;
+    if (target == stored || x == stored)
+        return x;
+    bool isUp = target > stored;
+    float next = unpackHalf2x16(isUp ? _NRD_Fp16StepUp(h) : _NRD_Fp16StepDown(h)).x;
+    return (isUp ? x < next : x > next) ? next : x;
+}
+vec4 _NRD_Fp16Converge(vec4 x, vec4 history, vec4 target)
+{
+    return vec4(_NRD_Fp16Converge(x.x, history.x, target.x), _NRD_Fp16Converge(x.y, history.y, target.y),
+                _NRD_Fp16Converge(x.z, history.z, target.z), _NRD_Fp16Converge(x.w, history.w, target.w));
+}
+
 // Largest value that survives RGBA16f storage; use before writing history in fp16 formats.
 vec4 _NRD_ClampToHalf(vec4 v) { return clamp(v, vec4(-NRD_FP16_MAX), vec4(NRD_FP16_MAX)); }
 

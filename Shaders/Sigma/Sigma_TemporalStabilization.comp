@@ -545,7 +545,8 @@ void main()
                 historyLength = min(historyLength, keep);
         }
 
-        result = mix(current, clamped, historyLength / (historyLength + 1.0));
+        // (At least one fp16 step: a pixel whose samples stay the same reaches them exactly.)
+        result = _NRD_Fp16Converge(mix(current, clamped, historyLength / (historyLength + 1.0)), clamped, current);
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
     }
 
