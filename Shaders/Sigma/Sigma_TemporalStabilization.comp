@@ -52,6 +52,10 @@
 // A lit hard-shadow sample under resampled history (camera or surface motion) whose previous
 // samples were lit on less than HARD_SHADOW_RESAMPLED_LIT of the bilinear footprint takes up to
 // HARD_SHADOW_RESAMPLED_BLEND of the history (see main).
+// A hard-shadow pixel whose history restarted, with a kernel radius of at least
+// HARD_SHADOW_RESTART_RADIUS pixel, takes HARD_SHADOW_RESTART_BLEND of the 3x3 mean (see main).
+#define HARD_SHADOW_RESTART_RADIUS 0.3
+#define HARD_SHADOW_RESTART_BLEND 0.7
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
 
@@ -229,6 +233,8 @@ void main()
     bool isHardShadow = false;
     SIGMA_TYPE current = SIGMA_TYPE(0.0);
     SIGMA_TYPE m1 = SIGMA_TYPE(0.0);
+    SIGMA_TYPE nearMean = SIGMA_TYPE(0.0);
+    float nearWeight = 0.0;
     SIGMA_TYPE sigma = SIGMA_TYPE(0.0);
     SIGMA_TYPE minimum = SIGMA_TYPE(0.0);
     SIGMA_TYPE maximum = SIGMA_TYPE(0.0);
@@ -289,6 +295,12 @@ void main()
                 m1 += s * w;
                 m2 += s * s * w;
                 weightSum += w;
+                if (abs(i) <= 1 && abs(j) <= 1) // 3x3 mean, weights 1, 1/2, 1/4 (see the restart below).
+                {
+                    float wn = w * (i == 0 ? 1.0 : 0.5) * (j == 0 ? 1.0 : 0.5);
+                    nearMean += s * wn;
+                    nearWeight += wn;
+                }
                 if (abs(i) <= 1 && abs(j) <= 1 && w > 0.5)
                 {
                     minimum = min(minimum, s);
@@ -297,6 +309,7 @@ void main()
             }
         }
         m1 /= weightSum; // >= 1: the center has weight 1.
+        nearMean /= nearWeight;
         m2 /= weightSum;
         sigma = sqrt(max(m2 - m1 * m1, SIGMA_TYPE(0.0)));
 
@@ -550,5 +563,14 @@ void main()
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
     }
 
+    // A hard-shadow pixel whose history restarted this frame (an arrival, a departure row, a light
+    // switched on or off) where the penumbra estimate gives a kernel of at least
+    // HARD_SHADOW_RESTART_RADIUS and the 3x3 holds lit and shadowed samples starts from
+    // HARD_SHADOW_RESTART_BLEND of the way to the 3x3 mean of the blurred signal: its sample is one
+    // 0/1 draw of a penumbra about a pixel wide, which the blurs (a kernel under a pixel) copied. The
+    // history goes on from there. (Where the 3x3 agrees, the sample is exact: kept.)
+    if (isHardShadow && !isResampledHard && historyWeight > 0.999 && kernelRadius >= HARD_SHADOW_RESTART_RADIUS &&
+        newLength < 1.5 && !isPassed && _Sigma_MaxComponent(maximum - minimum) >= 0.5)
+        result = mix(result, nearMean, HARD_SHADOW_RESTART_BLEND);
     WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed, isHardShadow && isMovingTile, wasLit);
 }
