@@ -940,10 +940,11 @@ TEST_CASE("SIGMA starts a restarted penumbra about a pixel wide from its 3x3 mea
     // A lamp switched on after 6 dark frames over a still edge whose penumbra is 1.2 pixels in
     // radius (kernel 0.72 pixel: a hard shadow, which the blurs copy). Its lit samples under the
     // dark history restart (departure rows); where their 3x3 holds lit and shadowed samples they
-    // take HARD_SHADOW_RESTART_BLEND of the 3x3 mean. On lavapipe the first lit frame's relMSE is
-    // 0.31 of the samples' (0.50 without the rule: the restarted pixels output their samples, the
-    // others keep their dark history), and pixels whose 3x3 truth is exactly 0 or 1 keep their exact
-    // samples.
+    // take HARD_SHADOW_RESTART_BLEND of the 3x3 mean, and the shadowed samples beside them under the
+    // dark history HARD_SHADOW_FOLLOWER_BLEND (the tile's hard shadows depart). On lavapipe the first
+    // lit frame's relMSE is 0.24 of the samples' (0.31 with the restarted pixels' rule alone, 0.50
+    // without either: the restarted pixels output their samples, the others keep their dark
+    // history), and pixels whose 3x3 truth is exactly 0 or 1 keep their exact samples.
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
     Scene scene;
@@ -987,7 +988,7 @@ TEST_CASE("SIGMA starts a restarted penumbra about a pixel wide from its 3x3 mea
         INFO("first lit frame: relMSE of the samples " << noisy << ", of the output " << denoised << " ("
                                                       << denoised / noisy << "x); pixels changed outside the penumbra "
                                                       << changedOutsidePenumbra);
-        CHECK(denoised < 0.4 * noisy);
+        CHECK(denoised < 0.28 * noisy);
         CHECK(changedOutsidePenumbra == 0);
     }
     CHECK(context->ValidationMessageCount() == 0);

@@ -56,6 +56,12 @@
 // HARD_SHADOW_RESTART_RADIUS pixel, takes HARD_SHADOW_RESTART_BLEND of the 3x3 mean (see main).
 #define HARD_SHADOW_RESTART_RADIUS 0.3
 #define HARD_SHADOW_RESTART_BLEND 0.7
+// ... and a shadowed sample of such a penumbra under dark history, in a tile whose departures are at
+// least HARD_SHADOW_DEPARTING_TILE times its arrivals plus HARD_SHADOW_DEPARTING_EXCESS, takes
+// HARD_SHADOW_FOLLOWER_BLEND of it (a still view's penumbra noise rarely gives 5 departures in rows).
+#define HARD_SHADOW_DEPARTING_TILE 2.0
+#define HARD_SHADOW_DEPARTING_EXCESS 5.0
+#define HARD_SHADOW_FOLLOWER_BLEND 0.3
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
 
@@ -569,8 +575,17 @@ void main()
     // HARD_SHADOW_RESTART_BLEND of the way to the 3x3 mean of the blurred signal: its sample is one
     // 0/1 draw of a penumbra about a pixel wide, which the blurs (a kernel under a pixel) copied. The
     // history goes on from there. (Where the 3x3 agrees, the sample is exact: kept.)
+    // In a tile whose hard shadows depart (HARD_SHADOW_DEPARTING_TILE: a light switched on, a shadow
+    // moving off), a shadowed sample of such a penumbra under dark history (below 1 -
+    // HARD_SHADOW_ARRIVAL) that did not restart is the dark draw of the same penumbra that its lit
+    // neighbours restarted from: it takes HARD_SHADOW_FOLLOWER_BLEND of the 3x3 mean, its history
+    // going on as it was (a shadow that stays costs a hundred times more when lit).
+    bool isDepartingTile = float(s_DepartureNum) >= HARD_SHADOW_DEPARTING_TILE * float(s_ArrivalNum) + HARD_SHADOW_DEPARTING_EXCESS;
+    bool isRestarted = newLength < 1.5;
+    bool isFollower = isDepartingTile && !isRestarted && _Sigma_MaxComponent(current) < 0.5 &&
+                      _Sigma_MaxComponent(history) < 1.0 - HARD_SHADOW_ARRIVAL;
     if (isHardShadow && !isResampledHard && historyWeight > 0.999 && kernelRadius >= HARD_SHADOW_RESTART_RADIUS &&
-        newLength < 1.5 && !isPassed && _Sigma_MaxComponent(maximum - minimum) >= 0.5)
-        result = mix(result, nearMean, HARD_SHADOW_RESTART_BLEND);
+        (isRestarted || isFollower) && !isPassed && _Sigma_MaxComponent(maximum - minimum) >= 0.5)
+        result = mix(result, nearMean, isRestarted ? HARD_SHADOW_RESTART_BLEND : HARD_SHADOW_FOLLOWER_BLEND);
     WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed, isHardShadow && isMovingTile, wasLit);
 }
