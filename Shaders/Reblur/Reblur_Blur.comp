@@ -164,10 +164,10 @@ void main()
     // restarts specular histories (Reblur_TemporalAccumulation.comp), every neighbour's on the
     // surface whose lighting changed with them, and on a glossy surface the blur's radius is scaled
     // by 2 roughness (_Reblur_BlurRadius): the dense 5x5 fix averages more of the regrowing
-    // histories' noise for those frames (fast_occluder 128x128, the box's shadow crossing a glossy
-    // sphere: relMSE with / without confidence 1.008x -> 0.979x on the NVIDIA H100;
-    // Shaders/Confidence/README.md).
-    float fixFrames = gHistoryFixFrameNum + (fixLength - historyLength);
+    // histories' noise for those frames, REBLUR_SPECULAR_DEBT_FIX_SCALE times the debt's (fast_occluder
+    // 128x128, the box's shadow crossing a glossy sphere: relMSE with / without confidence 1.008x ->
+    // 0.979x on the NVIDIA H100 with the debt's frames once; Shaders/Confidence/README.md).
+    float fixFrames = gHistoryFixFrameNum + REBLUR_SPECULAR_DEBT_FIX_SCALE * (fixLength - historyLength);
 #else
     float fixFrames = gHistoryFixFrameNum;
 #endif
