@@ -131,6 +131,14 @@
 #define TS_MOVED_CONTRADICTIONS 2
 #define TS_MOVED_CONTRADICTIONS_LIT 3
 #define TS_MOVED_LIT_NEIGHBORS 3
+// A lit sample under a dark history whose whole 3x3 is lit on this frame and was on the last (the
+// footprint's texels at the same offsets, at least TS_LIT_AREA_PAIRS of the 8 on this surface) is
+// lit evidence too: the trailing side of a shadow that moved off without motion vectors, where its
+// penumbra kept the texels from settling (moving_occluder). Binary noise of lit fraction m gives it
+// with probability m^18; a shadow thinner than a pixel, whose neighbours are lit, still needs its own
+// two samples and those of its neighbours along it lit (the lit sample alone on two frames took
+// thin_geometry, a still scene, down 11% at 64x64; all 8 neighbours lit on this frame alone, 23%).
+#define TS_LIT_AREA_PAIRS 6
 // Lit stripes that keep moving without motion vectors (a blind under a turning sun seen at high
 // resolution): the texels they pass over are lit one frame in several, so their temporal means stay
 // between 0 and 1 and none is settled. A lit sample on a thin line of light (1 or 2 pixels wide:
@@ -849,6 +857,14 @@ void main()
         bool isMovingStripe = history.y < TS_STRIPE_MEAN && history.z >= TS_STRIPE_SAMPLES && flips >= TS_STRIPE_FLIPS &&
                               bitCount((previousBits >> 16) & footprintBits) <= TS_STRIPE_SETTLED && HasThinLine(near);
         isLitEvidence = isLitEvidence || isMovingStripe;
+        // TS_LIT_AREA_PAIRS: the 3x3 lit on this frame (outside the image counts as lit) and the last.
+        uint litBefore = 0u; // The nearest texel's 8 neighbours in the footprint, on this surface.
+        for (int row = -1; row <= 1; row++)
+            litBefore |= 0x7u << uint(4 * (nearestK.y + row) + nearestK.x - 1);
+        litBefore &= footprintBits & ~(1u << uint(4 * nearestK.y + nearestK.x));
+        bool isLitArea = litNeighbors == 8 && isCentreUnchanged && bitCount(litBefore) >= TS_LIT_AREA_PAIRS &&
+                         (litBefore & ~previousBits) == 0u;
+        isLitEvidence = isLitEvidence || isLitArea;
         if (!isDisoccluded && !isMoving && !isSwitched && abs(history.x - sample0) > 0.5 &&
             (sample0 == 0.0 ? contradictions >= TS_MOVED_CONTRADICTIONS : isLitEvidence))
         {
