@@ -123,8 +123,8 @@
 // Specular: a history the confidence cut keeps the history fix for this many times the debt's
 // frames longer (Reblur_Blur.comp). 1 -> 2, lavapipe, 64x64, 40 frames, relMSE with / without
 // confidence summed over seeds 1-6: fast_occluder 1.0001x -> 0.990x, every other lighting scene
-// within 2.3% of its gain (Shaders/Confidence/README.md, "fast_occluder REBLUR_SPECULAR: the
-// regrowth over twice the debt's frames").
+// within 2.3% of its gain (Shaders/Confidence/README.md, "The regrowth over twice the debt's
+// frames").
 #define REBLUR_SPECULAR_DEBT_FIX_SCALE 2.0
 
 // Diffuse lighting change test (Reblur_TemporalAccumulation.comp), with or without a confidence input: lines

@@ -858,12 +858,12 @@ void main()
                               bitCount((previousBits >> 16) & footprintBits) <= TS_STRIPE_SETTLED && HasThinLine(near);
         isLitEvidence = isLitEvidence || isMovingStripe;
         // TS_LIT_AREA_PAIRS: the 3x3 lit on this frame (outside the image counts as lit) and the last.
-        uint litBefore = 0u; // The nearest texel's 8 neighbours in the footprint, on this surface.
+        uint aroundNearest = 0u; // The nearest texel's 8 neighbours in the footprint, on this surface.
         for (int row = -1; row <= 1; row++)
-            litBefore |= 0x7u << uint(4 * (nearestK.y + row) + nearestK.x - 1);
-        litBefore &= footprintBits & ~(1u << uint(4 * nearestK.y + nearestK.x));
-        bool isLitArea = litNeighbors == 8 && isCentreUnchanged && bitCount(litBefore) >= TS_LIT_AREA_PAIRS &&
-                         (litBefore & ~previousBits) == 0u;
+            aroundNearest |= 0x7u << uint(4 * (nearestK.y + row) + nearestK.x - 1);
+        aroundNearest &= footprintBits & ~(1u << uint(4 * nearestK.y + nearestK.x));
+        bool isLitArea = litNeighbors == 8 && isCentreUnchanged && bitCount(aroundNearest) >= TS_LIT_AREA_PAIRS &&
+                         (aroundNearest & ~previousBits) == 0u;
         isLitEvidence = isLitEvidence || isLitArea;
         if (!isDisoccluded && !isMoving && !isSwitched && abs(history.x - sample0) > 0.5 &&
             (sample0 == 0.0 ? contradictions >= TS_MOVED_CONTRADICTIONS : isLitEvidence))
