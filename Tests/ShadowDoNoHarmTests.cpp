@@ -46,7 +46,6 @@ const Shortfall kShortfalls[] = {
     {"mesh_character", "TILED_SHADOW", 64, 2.38, 1.16}, // ratio 2.643 (oracle 0.43), FLIP 0.0274 -> 0.0289 (lavapipe)
     {"mesh_engine", "TILED_SHADOW", 64, 0.98, 1.13}, // ratio 1.089 (oracle 1.22), FLIP 0.00560 -> 0.00573 (lavapipe)
     {"mesh_thin", "TILED_SHADOW", 64, 0.23, 1.86}, // ratio 0.262 (oracle 0.86), FLIP 0.0169 -> 0.0286 (lavapipe)
-    {"toggling_light", "TILED_SHADOW", 64, 1.17, 0.93}, // ratio 1.307 (oracle 5.22), FLIP 0.0109 -> 0.0092 (lavapipe)
     {"venetian_blinds", "TILED_SHADOW", 64, 0.99, 1.003}, // ratio 1.000 (oracle 1.53), FLIP 0.02202 -> 0.02206 (lavapipe)
     {"mesh_thin", "TILED_SHADOW", 128, 0.39, 1.58}, // ratio 0.435 (oracle 0.90), FLIP 0.0169 -> 0.0241 (lavapipe)
     {"venetian_blinds", "TILED_SHADOW", 128, 0.99, 1.002}, // ratio 1.000 (oracle 1.43), FLIP 0.02284 -> 0.02285 (lavapipe)
