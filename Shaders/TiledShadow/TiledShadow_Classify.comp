@@ -141,9 +141,9 @@
 #define TS_LIT_AREA_PAIRS 6
 // A light switched on over a dark neighbourhood (isSwitchedOn): a lit sample whose 3x3 bits are lit
 // on less than this fraction (4 of 9 at most) is a dark penumbra's noise more often than not; its
-// history starts from the running mean of the 3x3 mean and the sample (about half-way) instead of
-// the blend toward the sample, which a young history makes nearly the sample (a lit sample in a
-// mostly dark 3x3 costs most in relMSE). From 5 of 9 lit on, FLIP rose above the input's on
+// history starts from the running mean of the 3x3 mean (worth 3 samples) and the sample, a quarter
+// of the way to the sample, instead of the blend toward the sample, which a young history makes
+// nearly the sample (a lit sample in a mostly dark 3x3 costs most in relMSE). From 5 of 9 lit on, FLIP rose above the input's on
 // toggling_light at 64x64 (seed 2).
 #define TS_SWITCHED_ON_LIT_NEAR 0.5
 // Lit stripes that keep moving without motion vectors (a blind under a turning sun seen at high
