@@ -135,21 +135,6 @@ private:
     uint32_t m_FrameIndex = 0;
 };
 
-// An infinite light's direction (towards it) in view space, unit, and the sine of its angular radius
-// in .w; zeros where it is unknown or a sphere light is set (which wins).
-inline glsl::vec4 ShadowLightDirectionView(const float* direction, float tanOfAngularRadius, float sphereRadius, const float* worldToView)
-{
-    float v[3];
-    const float* m = worldToView; // Column-major, as CommonSettings::worldToViewMatrix.
-    for (int row = 0; row < 3; row++)
-        v[row] = m[0 * 4 + row] * direction[0] + m[1 * 4 + row] * direction[1] + m[2 * 4 + row] * direction[2];
-    float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (sphereRadius > 0.0f || !(length > 1e-12f) || !std::isfinite(length))
-        return {};
-    float sine = tanOfAngularRadius / std::sqrt(1.0f + tanOfAngularRadius * tanOfAngularRadius);
-    return {v[0] / length, v[1] / length, v[2] / length, sine};
-}
-
 // The light fields of a shadow denoiser's settings (lightDirection, tanOfLightAngularRadius,
 // lightPosition, lightRadius: SigmaSettings, TiledShadowSettings) into its pass constants
 // (gShadowMotionPerPenumbra, gLightPositionView, gLightMotionView).

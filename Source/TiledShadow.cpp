@@ -185,8 +185,6 @@ public:
         if (s.isShadowDataInput)
         {
             SetShadowLightMotion(m_LightMotion, s, frame, c);
-            c.gLightDirectionView = ShadowLightDirectionView(s.lightDirection, s.tanOfLightAngularRadius, s.lightRadius,
-                                                             frame.common.worldToViewMatrix);
         }
         context.Dispatch(m_Classify[(s.isShadowDataInput ? 2 : 0) + (s.isBitmaskInput ? 1 : 0)], c, frame.width, frame.height);
 

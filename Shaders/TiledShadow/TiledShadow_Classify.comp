@@ -128,13 +128,13 @@
 // - shadowed again on the next frame restarts like isPersistent's, without its shadowed neighbour.
 // (Measured in Shaders/TiledShadow/README.md, "Hard shadows that arrive".)
 #define TS_HARD_ARRIVAL_PENUMBRA 0.25
-// A shadowed sample that is exact (TS_HARD_ARRIVAL_PENUMBRA, or of no penumbra with the whole light
-// below the surface's horizon) on a history of fewer than TS_HARD_FRESH_SAMPLES samples, in a still
-// view, is output as it is too: the history cannot yet tell a penumbra from a sharp shadow, and the
-// boosted filter would light the umbrae that a disocclusion or a restart revealed (the corners of
-// compact shadows, which the 3x3 pattern tests take for noise: disocclusion at 64x64). Taken as hard
-// without the horizon test, the faces of fast_occluder's boxes turned side-on to its sphere lamp
-// (half of it above their horizon) lost 13-17% at 128x128 and 256x256.
+// A shadowed sample of a hard penumbra (TS_HARD_ARRIVAL_PENUMBRA, above 0) on a history of fewer
+// than TS_HARD_FRESH_SAMPLES samples, in a still view, is output as it is too: the history cannot yet
+// tell a penumbra from a sharp shadow, and the boosted filter would light the umbrae that a
+// disocclusion or a restart revealed (the corners of compact shadows, which the 3x3 pattern tests
+// take for noise: disocclusion at 64x64). A penumbra of 0 (a light sample below the surface's
+// horizon) is left out: fast_occluder's boxes have faces turned side-on to its sphere lamp, half of
+// which is above their horizon, and lost 13-17% at 128x128 and 256x256 with them.
 #define TS_HARD_FRESH_SAMPLES 2.0
 #define TS_MOVED_CONTRADICTIONS 2
 #define TS_MOVED_CONTRADICTIONS_LIT 3
@@ -389,25 +389,6 @@ float StepToward(float difference, float alpha)
     float step = alpha * difference;
     return abs(step) < TS_MIN_STEP ? sign(difference) * min(abs(difference), TS_MIN_STEP) : step;
 }
-
-#if TS_SHADOW_DATA
-// A shadowed sample of penumbra 0 (SIGMA_FrontEnd_PackShadow's distance 0: the light sample lay below
-// the surface's horizon) is exact only where the whole light is below it; elsewhere (a sphere lamp
-// straddling the horizon of a face turned nearly side-on to it) its truth is the part of the light
-// above the horizon. Unknown light: not taken as exact.
-bool IsBelowHorizon(vec3 N, vec3 Xv)
-{
-    vec3 Nv = N * mat3(gViewToWorld); // World -> view (transposed rotation).
-    if (gLightPositionView.w > 0.0)
-    {
-        vec3 toLight = gLightPositionView.xyz - Xv;
-        float distance = length(toLight);
-        // sin of the angular radius: radius / distance (inside the light: never below).
-        return distance * gLightPositionView.w > 1.0 && dot(Nv, toLight) < -1.0 / gLightPositionView.w;
-    }
-    return dot(gLightDirectionView.xyz, gLightDirectionView.xyz) > 0.0 && dot(Nv, gLightDirectionView.xyz) < -gLightDirectionView.w;
-}
-#endif
 
 void main()
 {
@@ -921,12 +902,14 @@ void main()
         // texels of its footprint are too few to tell (a thin shadow, the leading edge of a stripe).
 #if TS_SHADOW_DATA
         // NaN reads as not hard; lit samples carry NRD_FP16_MAX.
-        // A penumbra of 0 is a light sample below the surface's horizon (a surface turning away from a
+        // NaN reads as not hard; lit samples carry NRD_FP16_MAX. A penumbra of 0 is a light sample below
+        // the surface's horizon (SIGMA_FrontEnd_PackShadow's distance 0: a surface turning away from a
         // moving light): against a settled lit history it is as good evidence as a hard one, but it is
-        // exact only where the whole light is below the horizon (IsBelowHorizon).
+        // exact only where the whole light is below the horizon, which is not known here (a sphere lamp
+        // straddles the horizon of a face turned side-on to it: the truth is the part above).
         float penumbraPixels = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), pixel, 0).y * gProjectY;
         bool isHardSample = sample0 == 0.0 && penumbraPixels < TS_HARD_ARRIVAL_PENUMBRA;
-        bool isExactSample = isHardSample && (penumbraPixels > 0.0 || IsBelowHorizon(N, Xv));
+        bool isExactSample = isHardSample && penumbraPixels > 0.0;
 #else
         const bool isHardSample = false;
         const bool isExactSample = false;
@@ -940,6 +923,11 @@ void main()
             temporalMean = sample0;
             samples = 2.0;
         }
+        // TS_HARD_FRESH_SAMPLES: an exact shadowed sample on a history of fewer than 2 samples (a
+        // disocclusion, a restart on this frame or the last) in a still view is output as sampled (the
+        // variance is set nowhere else from here on but to the same code, below).
+        if (isExactSample && !isMoving && history.z < TS_HARD_FRESH_SAMPLES)
+            variance = TS_OUTPUT_SAMPLE - sample0;
         if (isDeterministic)
         {
             result = sample0;
@@ -1030,9 +1018,6 @@ void main()
         int nearest = 4 * nearestK.y + nearestK.x;
         bool isHardArrival = isHardSample && !isDisoccluded && !isMoving && ((footprintBits >> uint(nearest)) & 1u) != 0u &&
                              ((previousBits >> uint(nearest)) & 0x10001u) == 0x10001u;
-        // TS_HARD_FRESH_SAMPLES: an exact shadowed sample on a history that has not yet 2 samples (a
-        // disocclusion, a restart on this frame or the last) in a still view.
-        isHardArrival = isHardArrival || (isExactSample && !isMoving && history.z < TS_HARD_FRESH_SAMPLES);
         if (isHardArrival || (isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
             movedKeep < 1.0)
             variance = TS_OUTPUT_SAMPLE - sample0;
