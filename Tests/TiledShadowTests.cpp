@@ -357,6 +357,7 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
     const size_t n = size_t(w) * h;
     std::vector<double> z(n, 0.0), nx(n, 0.0), ny(n, 0.0), nz(n, 0.0);
     std::vector<float> s(n * 2, 0.0f);
+    std::vector<bool> isLitSample(n, false);
     for (size_t i = 0; i < n; i++)
     {
         if (in.IsSky(uint32_t(i % w), uint32_t(i / w)) || in.viewZ[i] > 500000.0f)
@@ -372,8 +373,10 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
         nx[i] = v[0] / length;
         ny[i] = v[1] / length;
         nz[i] = v[2] / length;
-        // The variance channel below zero: the sample -1 - variance, no variance.
+        // The variance channel below zero: the sample -1 - variance, no variance. A lit one keeps its
+        // code, so no variance, in every pass.
         bool isSample = f.shadow[i * 2 + 1] < 0.0f;
+        isLitSample[i] = f.shadow[i * 2 + 1] == -2.0f;
         s[i * 2] = isSample ? -1.0f - f.shadow[i * 2 + 1] : f.shadow[i * 2];
         s[i * 2 + 1] = isSample ? 0.0f : f.shadow[i * 2 + 1];
         s[i * 2] = test::RoundToHalf(s[i * 2], truncate);
@@ -429,7 +432,7 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
                             weightSum += weight;
                         }
                     result = std::min(std::max(sc + sum / weightSum, 0.0), 1.0);
-                    resultVariance = sumVariance / (weightSum * weightSum);
+                    resultVariance = isLitSample[c] ? 0.0 : sumVariance / (weightSum * weightSum);
                 }
                 if (isLast)
                     out[c] = float(std::min(std::max(result, 0.0), 1.0));
