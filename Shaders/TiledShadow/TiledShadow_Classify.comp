@@ -903,7 +903,6 @@ void main()
         // TS_PERSISTENT_NEIGHBORS: the pixel's own samples say the shadow arrived, where the settled
         // texels of its footprint are too few to tell (a thin shadow, the leading edge of a stripe).
 #if TS_SHADOW_DATA
-        // NaN reads as not hard; lit samples carry NRD_FP16_MAX.
         // NaN reads as not hard; lit samples carry NRD_FP16_MAX. A penumbra of 0 is a light sample below
         // the surface's horizon (SIGMA_FrontEnd_PackShadow's distance 0: a surface turning away from a
         // moving light): against a settled lit history it is as good evidence as a hard one, but it is
