@@ -175,8 +175,9 @@ void main()
         if (tileClass == TS_TILE_FILTERED && !isSkyPixel)
         {
             int center = (local.y + BORDER) * REGION + local.x + BORDER;
+            vec2 own = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0).xy; // Undecoded (TS_OUTPUT_SAMPLE).
             if (gIsFirstPass != 0u)
-                temporal = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0).x;
+                temporal = own.x;
             vec2 filtered = gNormalPower == 32.0 ? FilterTexel(center, pixel, true) : FilterTexel(center, pixel, false);
             result = filtered.x;
             resultVariance = filtered.y;
@@ -184,9 +185,8 @@ void main()
             // their variance in this one, with which the next would darken it from a shadow beside it
             // (lit pixels at 0.98-0.999 next to moving edges). A shadowed one is left to the passes
             // (kept dark as well, the moving lamps' and occluders' scenes lost up to 7%).
-            float inputVariance = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0).y;
-            if (inputVariance == TS_OUTPUT_SAMPLE - 1.0)
-                resultVariance = inputVariance;
+            if (own.y == TS_OUTPUT_SAMPLE - 1.0)
+                resultVariance = own.y;
         }
     }
 
