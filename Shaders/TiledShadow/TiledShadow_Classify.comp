@@ -90,6 +90,12 @@
 // The other pixels (soft shadows, left to the filter) keep at most a quarter of their penumbra radius
 // of the light's motion in their history.
 #define TS_MOVING_SOFT_RADII 0.25
+// Next to hard shadows that the light's move carried (a finite history kept, see movedKeep), the
+// samples are exact but within a penumbra radius of an edge, which the boosted filter on the short
+// history blurs: a shadowed sample of a hard penumbra (TS_HARD_ARRIVAL_PENUMBRA) and a lit one with
+// at least TS_MOVING_LIT_NEIGHBORS lit neighbours (on the lit side of the edge) are output as they
+// are. Under a slowly turning sun venetian_blinds' lit pixels next to a slat's shadow read 0.99.
+#define TS_MOVING_LIT_NEIGHBORS 4
 // A switch whose local mean rose by more than this starts from the 3x3 bits (see isSwitchedOn).
 #define TS_SWITCHED_ON 0.5
 // Temporal determinism: the raw samples of the 4x4 history footprint against this frame's at the same
@@ -540,8 +546,15 @@ void main()
                 {
                     ivec2 q = clamp(pixel + ivec2(i, j), ivec2(0), ivec2(gResourceSize) - 1);
                     float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y;
-                    // NaN, negative and lit (NRD_FP16_MAX) read as no penumbra; sky holds none.
-                    if (p >= 0.0 && p < NRD_FP16_MAX * 0.75 && !_NRD_IsSky(texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x))
+                    // NaN, negative and lit (NRD_FP16_MAX) read as no penumbra; sky holds none. A
+                    // penumbra of 0 (the light below the surface's horizon) under an infinite light
+                    // too: the terminator, the light's angular diameter wide on the surface (well under
+                    // a pixel for a sun), turns with the light like a hard shadow, and a radius of 0
+                    // would read as a shadow that never moves (venetian_blinds' sphere kept a full
+                    // history of its terminator while the sun turned 2.8 penumbra radii a frame). A
+                    // sphere lamp's terminator can be wide: it keeps its history as before.
+                    bool isPenumbra = p > 0.0 || (p == 0.0 && gLightMotionView.w != 0.0);
+                    if (isPenumbra && p < NRD_FP16_MAX * 0.75 && !_NRD_IsSky(texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x))
                         widest = max(widest, min(p * gProjectY, 16384.0));
                 }
             }
@@ -926,8 +939,9 @@ void main()
         }
         // TS_HARD_FRESH_SAMPLES: an exact shadowed sample on a history of fewer than 2 samples (a
         // disocclusion, a restart on this frame or the last) in a still view is output as sampled (the
-        // variance is set nowhere else from here on but to the same code, below).
-        if (isExactSample && !isMoving && history.z < TS_HARD_FRESH_SAMPLES)
+        // variance is set nowhere else from here on but to the same code, below). Likewise next to
+        // hard shadows that a moving light carried (TS_MOVING_LIT_NEIGHBORS).
+        if (isExactSample && !isMoving && (history.z < TS_HARD_FRESH_SAMPLES || movedKeep < NRD_FP16_MAX))
             variance = TS_OUTPUT_SAMPLE - sample0;
         if (isDeterministic)
         {
@@ -1001,6 +1015,8 @@ void main()
         // noise of mean 0.5), and a longer history needs no rule.
         bool isSettledMoving = isMoving && samples >= TS_SETTLED_MOVING_SAMPLES &&
                                abs(result - sample0) < TS_SETTLED_MOVING && abs(temporalMean - sample0) < TS_SETTLED_MOVING;
+        // TS_MOVING_LIT_NEIGHBORS: the lit side of a hard edge that a moving light carried.
+        bool isLitMovedEdge = movedKeep < NRD_FP16_MAX && sample0 != 0.0 && litNeighbors >= TS_MOVING_LIT_NEIGHBORS && !isDisoccluded;
         bool isTurned = false;
         for (int i = 0; i < 9 && isMoving && !isTurned; i++)
         {
@@ -1020,7 +1036,7 @@ void main()
         bool isHardArrival = isHardSample && !isDisoccluded && !isMoving && ((footprintBits >> uint(nearest)) & 1u) != 0u &&
                              ((previousBits >> uint(nearest)) & 0x10001u) == 0x10001u;
         if (isHardArrival || (isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
-            movedKeep < 1.0)
+            isLitMovedEdge || movedKeep < 1.0)
             variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
