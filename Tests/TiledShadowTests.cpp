@@ -1359,6 +1359,55 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples that have no history yet",
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+TEST_CASE("TILED_SHADOW outputs hard shadowed samples under camera motion", "[vulkan]")
+{
+    // The camera moves 0.3 pixel a frame (motion vectors given) over noise lit one sample in two, with
+    // IN_SHADOWDATA bound. Bands of 8 columns (in screen space) give the shadowed samples a penumbra
+    // radius of 0.05 pixel (a contact shadow: the sample is exact) or 0.2 pixel (under a quarter pixel,
+    // but the pixel centre may lie within it). On the 8th frame the first are output as sampled
+    // (TS_MOVING_EXACT_PENUMBRA), the others filtered from their lit neighbours like penumbra noise.
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    const uint32_t w = 64, h = 48;
+    const float step = 0.3f;
+    auto radius = [&](float pixels) { return pixels / (0.5f * float(h)); }; // Radius / viewZ, |P11| = 1.
+    auto isContactBand = [](uint32_t x, uint32_t) { return x % 16 < 8; };
+    auto isQuarterBand = [](uint32_t x, uint32_t) { return x % 16 >= 8; };
+    TiledShadowRig rig(*context);
+    TiledShadowSettings settings = {};
+    settings.isShadowDataInput = true;
+    rig.Create(w, h, settings);
+    Inputs in(w, h);
+    std::vector<float> out;
+    for (uint32_t frame = 0; frame < 8; frame++)
+    {
+        in = RandomInputs(w, h, 1700 + frame);
+        in.shadowData.resize(in.visibility.size() * 2);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+            {
+                size_t i = size_t(y) * w + x;
+                in.mv[i * 2] = step / float(w);
+                in.shadowData[i * 2 + 0] = in.visibility[i];
+                in.shadowData[i * 2 + 1] = in.visibility[i] > 0.5f ? 65504.0f : radius(isContactBand(x, y) ? 0.05f : 0.2f);
+            }
+        float shift = step * float(frame) * 2.0f * kPlaneViewZ / float(w); // World units (|P00| = 1).
+        out = rig.Frame(CameraSettings(frame, shift, shift - step * 2.0f * kPlaneViewZ / float(w)), in);
+        REQUIRE(CountNonFinite(out) == 0);
+    }
+    ShadowedOutput contact = MeasureShadowed(in, out, isContactBand);
+    ShadowedOutput quarter = MeasureShadowed(in, out, isQuarterBand);
+    std::printf("TILED_SHADOW moving camera, shadowed samples: penumbra 0.05 pixel %u of %u output 0 (mean %.3f), 0.2 pixel "
+                "%u of %u (mean %.3f)\n",
+                contact.zeros, contact.count, contact.mean, quarter.zeros, quarter.count, quarter.mean);
+    REQUIRE(contact.count >= 300);
+    REQUIRE(quarter.count >= 300);
+    CHECK(contact.zeros >= contact.count * 3 / 4);
+    CHECK(contact.mean <= 0.05);
+    CHECK(quarter.mean >= 0.2);
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
 TEST_CASE("TILED_SHADOW lights pixels whose 3x3 stays lit under a stale dark history", "[vulkan]")
 {
     // Still camera, no motion vectors: a field of noise that is lit one sample in four (a dark
