@@ -288,6 +288,23 @@ Inputs RandomInputs(uint32_t w, uint32_t h, uint32_t seed, float litProbability 
     return in;
 }
 
+// Binds IN_SHADOWDATA to 'in' (still camera, the plane at kPlaneViewZ): each sample's visibility and,
+// where it is shadowed, the penumbra radius 'penumbraPixels(x, y)' gives in pixels, as radius / viewZ
+// (|P11| = 1: pixels = value * 0.5 * height); lit samples carry NRD_FP16_MAX.
+template <class PenumbraPixels>
+void SetShadowData(Inputs& in, PenumbraPixels penumbraPixels)
+{
+    in.shadowData.resize(in.visibility.size() * 2);
+    for (uint32_t y = 0; y < in.height; y++)
+        for (uint32_t x = 0; x < in.width; x++)
+        {
+            size_t i = size_t(y) * in.width + x;
+            bool isLit = in.visibility[i] > 0.5f;
+            in.shadowData[i * 2 + 0] = isLit ? 1.0f : 0.0f;
+            in.shadowData[i * 2 + 1] = isLit ? 65504.0f : penumbraPixels(x, y) / (0.5f * float(in.height));
+        }
+}
+
 // A straight shadow edge across the plane; visibility ramps over 2 * penumbraRadius pixels.
 struct EdgeScene
 {
@@ -1144,14 +1161,7 @@ TEST_CASE("TILED_SHADOW keeps no history of hard shadows that a moving light car
             rig.SetSettings(settings);
             scene.edgeOffset = 0.25f * float(frame);
             Inputs in = scene.Make(15000 + frame);
-            in.shadowData.resize(in.visibility.size() * 2);
-            for (size_t i = 0; i < in.visibility.size(); i++)
-            {
-                bool lit = in.visibility[i] > 0.5f;
-                in.shadowData[i * 2 + 0] = lit ? 1.0f : 0.0f;
-                // Radius / viewZ for the still camera (|P11| = 1: pixels = value * 0.5 * height).
-                in.shadowData[i * 2 + 1] = lit ? 65504.0f : scene.penumbraRadius / (0.5f * float(scene.height));
-            }
+            SetShadowData(in, [&](uint32_t, uint32_t) { return scene.penumbraRadius; });
             std::vector<float> out = rig.Frame(frame, in);
             REQUIRE(CountNonFinite(out) == 0);
             if (frame == 0)
@@ -1203,13 +1213,7 @@ TEST_CASE("TILED_SHADOW outputs the exact samples next to hard shadows that a sl
             rig.SetSettings(settings);
             scene.edgeOffset = 0.02f * float(frame);
             Inputs in = scene.Make(16000 + frame);
-            in.shadowData.resize(in.visibility.size() * 2);
-            for (size_t i = 0; i < in.visibility.size(); i++)
-            {
-                bool lit = in.visibility[i] > 0.5f;
-                in.shadowData[i * 2 + 0] = lit ? 1.0f : 0.0f;
-                in.shadowData[i * 2 + 1] = lit ? 65504.0f : penumbraPixels / (0.5f * float(scene.height));
-            }
+            SetShadowData(in, [&](uint32_t, uint32_t) { return penumbraPixels; });
             std::vector<float> out = rig.Frame(frame, in);
             REQUIRE(CountNonFinite(out) == 0);
             if (frame < 2)
@@ -1245,29 +1249,21 @@ TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a sett
     TiledShadowSettings settings = {};
     settings.isShadowDataInput = true;
     rig.Create(w, h, settings);
-    auto radius = [&](float pixels) { return pixels / (0.5f * float(h)); }; // Radius / viewZ, |P11| = 1.
     std::vector<float> out;
     for (uint32_t frame = 0; frame < 11; frame++)
     {
         Inputs in(w, h);
-        in.shadowData.resize(in.visibility.size() * 2);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++)
             {
                 // The lines avoid the grid's 3x3 neighbourhoods.
                 bool isNearGrid = x % 8 >= 3 && x % 8 <= 5 && y % 8 >= 3 && y % 8 <= 5;
                 float v = (x + 2 * y + frame / 3) % 4 == 0 && !isNearGrid ? 0.0f : 1.0f;
-                float penumbra = 2.0f;
                 if (IsArrivalGrid(x, y))
-                {
                     v = frame < 10 ? 1.0f : 0.0f;
-                    penumbra = IsArrivalGroupA(x, y) ? 0.1f : 2.0f;
-                }
-                size_t i = size_t(y) * w + x;
-                in.visibility[i] = v;
-                in.shadowData[i * 2 + 0] = v;
-                in.shadowData[i * 2 + 1] = v > 0.5f ? 65504.0f : radius(penumbra);
+                in.visibility[size_t(y) * w + x] = v;
             }
+        SetShadowData(in, [](uint32_t x, uint32_t y) { return IsArrivalGrid(x, y) && IsArrivalGroupA(x, y) ? 0.1f : 2.0f; });
         out = rig.Frame(frame, in);
         REQUIRE(CountNonFinite(out) == 0);
     }
@@ -1317,7 +1313,6 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples that have no history yet",
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
     const uint32_t w = 64, h = 48;
-    auto radius = [&](float pixels) { return pixels / (0.5f * float(h)); }; // Radius / viewZ, |P11| = 1.
     auto isHardBand = [](uint32_t x, uint32_t) { return x % 16 < 8; };
     auto isSoftBand = [](uint32_t x, uint32_t) { return x % 16 >= 8; };
     auto everywhere = [](uint32_t, uint32_t) { return true; };
@@ -1327,15 +1322,7 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples that have no history yet",
         settings.isShadowDataInput = true;
         rig.Create(w, h, settings);
         Inputs in = RandomInputs(w, h, 11);
-        in.shadowData.resize(in.visibility.size() * 2);
-        for (uint32_t y = 0; y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-            {
-                size_t i = size_t(y) * w + x;
-                float penumbra = isFacingAway ? 0.0f : radius(isHardBand(x, y) ? 0.1f : 2.0f);
-                in.shadowData[i * 2 + 0] = in.visibility[i];
-                in.shadowData[i * 2 + 1] = in.visibility[i] > 0.5f ? 65504.0f : penumbra;
-            }
+        SetShadowData(in, [&](uint32_t x, uint32_t y) { return isFacingAway ? 0.0f : isHardBand(x, y) ? 0.1f : 2.0f; });
         std::vector<float> out = rig.Frame(0, in);
         REQUIRE(CountNonFinite(out) == 0);
         return std::make_pair(in, out);
@@ -1370,7 +1357,6 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples under camera motion", "[vu
     REQUIRE(context);
     const uint32_t w = 64, h = 48;
     const float step = 0.3f;
-    auto radius = [&](float pixels) { return pixels / (0.5f * float(h)); }; // Radius / viewZ, |P11| = 1.
     auto isContactBand = [](uint32_t x, uint32_t) { return x % 16 < 8; };
     auto isQuarterBand = [](uint32_t x, uint32_t) { return x % 16 >= 8; };
     TiledShadowRig rig(*context);
@@ -1382,15 +1368,9 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples under camera motion", "[vu
     for (uint32_t frame = 0; frame < 8; frame++)
     {
         in = RandomInputs(w, h, 1700 + frame);
-        in.shadowData.resize(in.visibility.size() * 2);
-        for (uint32_t y = 0; y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-            {
-                size_t i = size_t(y) * w + x;
-                in.mv[i * 2] = step / float(w);
-                in.shadowData[i * 2 + 0] = in.visibility[i];
-                in.shadowData[i * 2 + 1] = in.visibility[i] > 0.5f ? 65504.0f : radius(isContactBand(x, y) ? 0.05f : 0.2f);
-            }
+        for (size_t i = 0; i < in.visibility.size(); i++)
+            in.mv[i * 2] = step / float(w);
+        SetShadowData(in, [&](uint32_t x, uint32_t y) { return isContactBand(x, y) ? 0.05f : 0.2f; });
         float shift = step * float(frame) * 2.0f * kPlaneViewZ / float(w); // World units (|P00| = 1).
         out = rig.Frame(CameraSettings(frame, shift, shift - step * 2.0f * kPlaneViewZ / float(w)), in);
         REQUIRE(CountNonFinite(out) == 0);
