@@ -1134,47 +1134,68 @@ TEST_CASE("TILED_SHADOW follows thin lines of light that keep moving over a stil
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+// A straight shadow edge (EdgeScene, 64x64, no motion vectors) moving 'edgeStep' pixels a frame under a
+// moving light (test::SetMovingTestLight: an infinite light turning by 'step' under tan(radius)
+// 'size', or a sphere light of radius 'size' moving 'step' a frame), its shadowed samples carrying a
+// penumbra radius of 'dataPixels' in IN_SHADOWDATA: the pixels whose output differs from their sample,
+// summed from frame 'firstCounted' on.
+struct MovingLightEdge
+{
+    bool isInfinite = true;
+    float size = 0.0f, step = 0.0f;
+    float penumbraRadius = 0.3f, dataPixels = 0.3f; // The scene's, and the one IN_SHADOWDATA says.
+    float edgeStep = 0.25f;
+    uint32_t frames = 8, firstCounted = 1, seed = 15000;
+};
+
+size_t CountUnlikeSamples(lab::VulkanContext& context, const MovingLightEdge& r)
+{
+    EdgeScene scene;
+    scene.width = scene.height = 64;
+    scene.penumbraRadius = r.penumbraRadius;
+    TiledShadowRig rig(context);
+    TiledShadowSettings settings = {};
+    settings.isShadowDataInput = true;
+    rig.Create(scene.width, scene.height, settings);
+    size_t changed = 0;
+    for (uint32_t frame = 0; frame < r.frames; frame++)
+    {
+        test::SetMovingTestLight(settings, r.isInfinite, r.size, r.step, frame, kPlaneViewZ);
+        rig.SetSettings(settings);
+        scene.edgeOffset = r.edgeStep * float(frame);
+        Inputs in = scene.Make(r.seed + frame);
+        SetShadowData(in, [&](uint32_t, uint32_t) { return r.dataPixels; });
+        std::vector<float> out = rig.Frame(frame, in);
+        REQUIRE(CountNonFinite(out) == 0);
+        if (frame < r.firstCounted)
+            continue;
+        for (size_t i = 0; i < out.size(); i++)
+            changed += std::abs(out[i] - in.visibility[i]) > 1e-3f;
+    }
+    return changed;
+}
+
 TEST_CASE("TILED_SHADOW keeps no history of hard shadows that a moving light carries", "[vulkan]")
 {
     // A hard shadow edge (penumbra radius 0.3 pixel) moving 0.25 pixel a frame without motion
     // vectors. With IN_SHADOWDATA (the penumbra radius / viewZ of each shadowed sample) and a light
     // that moves 0.833 penumbra radii a frame (an infinite light turning by tan 0.00833 a frame under
     // tan(radius) 0.01; a sphere light of radius 0.1 moving 0.12 a frame across the direction to the
-    // plane, about 1.2 radii), every pixel outputs its sample. The same frames with the light's size
-    // unknown, or a light that stays, keep history.
+    // plane, about 1.2 radii), every pixel outputs its sample (frame 0 has no previous light). The
+    // same frames with the light's size unknown, or a light that stays, keep history.
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
-    enum class Light { INFINITE, SPHERE };
-    auto run = [&](Light type, float size, float step, size_t& changed)
-    {
-        EdgeScene scene;
-        scene.width = scene.height = 64;
-        scene.penumbraRadius = 0.3f;
-        TiledShadowRig rig(*context);
-        TiledShadowSettings settings = {};
-        settings.isShadowDataInput = true;
-        rig.Create(scene.width, scene.height, settings);
-        changed = 0;
-        for (uint32_t frame = 0; frame < 8; frame++)
-        {
-            test::SetMovingTestLight(settings, type == Light::INFINITE, size, step, frame, kPlaneViewZ);
-            rig.SetSettings(settings);
-            scene.edgeOffset = 0.25f * float(frame);
-            Inputs in = scene.Make(15000 + frame);
-            SetShadowData(in, [&](uint32_t, uint32_t) { return scene.penumbraRadius; });
-            std::vector<float> out = rig.Frame(frame, in);
-            REQUIRE(CountNonFinite(out) == 0);
-            if (frame == 0)
-                continue; // No previous light yet.
-            for (size_t i = 0; i < out.size(); i++)
-                changed += std::abs(out[i] - in.visibility[i]) > 1e-3f;
-        }
+    auto count = [&](bool isInfinite, float size, float step) {
+        MovingLightEdge r;
+        r.isInfinite = isInfinite;
+        r.size = size;
+        r.step = step;
+        return CountUnlikeSamples(*context, r);
     };
-    size_t turning = 0, moving = 0, unknownSize = 0, still = 0;
-    run(Light::INFINITE, 0.01f, 0.00833f, turning);
-    run(Light::SPHERE, 0.1f, 0.12f, moving);
-    run(Light::INFINITE, 0.0f, 0.00833f, unknownSize);
-    run(Light::SPHERE, 0.1f, 0.0f, still);
+    size_t turning = count(true, 0.01f, 0.00833f);
+    size_t moving = count(false, 0.1f, 0.12f);
+    size_t unknownSize = count(true, 0.0f, 0.00833f);
+    size_t still = count(false, 0.1f, 0.0f);
     INFO("pixels unlike their sample over 7 frames: turning light " << turning << ", moving sphere light " << moving
                                                                      << ", light of unknown size " << unknownSize << ", still light " << still);
     CHECK(turning == 0);
@@ -1187,45 +1208,32 @@ TEST_CASE("TILED_SHADOW keeps no history of hard shadows that a moving light car
 TEST_CASE("TILED_SHADOW outputs the exact samples next to hard shadows that a slowly moving light carries", "[vulkan]")
 {
     // A hard shadow edge (penumbra radius 0.1 pixel) that an infinite light turning 0.2 penumbra radii
-    // a frame moves by 0.02 pixel a frame, without motion vectors: the history keeps 2.5 frames of it
-    // (ShadowMotion.glsl), which the boosted filter blurs. Every sample is exact but the few whose
-    // centre lies within 0.1 pixel of the edge: a hard shadowed sample and a lit one on the lit side
-    // (TS_MOVING_LIT_NEIGHBORS) are output as they are. Then a penumbra radius of 0 (the light below
-    // the surface's horizon: a terminator): under the turning infinite light the same, under a
-    // moving sphere lamp (whose terminator can be wide) the history is kept and the filter acts.
+    // a frame (0.002 under tan(radius) 0.01) moves by 0.02 pixel a frame, without motion vectors: the
+    // history keeps 2.5 frames of it (ShadowMotion.glsl), which the boosted filter blurs. Every sample
+    // is exact but the few whose centre lies within 0.1 pixel of the edge: a hard shadowed sample and a
+    // lit one on the lit side (TS_MOVING_LIT_NEIGHBORS) are output as they are. Then a penumbra radius
+    // of 0 (the light below the surface's horizon: a terminator): under the turning infinite light the
+    // same, under a sphere lamp of radius 0.1 moving 0.02 a frame (about 0.2 radii; its terminator can
+    // be wide) the history is kept and the filter acts. Counted from frame 2 (frame 0 has no previous
+    // light, frame 1 a one-frame history).
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
-    auto run = [&](bool isInfinite, float penumbraPixels)
-    {
-        EdgeScene scene;
-        scene.width = scene.height = 64;
-        scene.penumbraRadius = 0.1f;
-        TiledShadowRig rig(*context);
-        TiledShadowSettings settings = {};
-        settings.isShadowDataInput = true;
-        rig.Create(scene.width, scene.height, settings);
-        size_t changed = 0;
-        for (uint32_t frame = 0; frame < 12; frame++)
-        {
-            // Turning: 0.002 / 0.01 penumbra radii a frame; the sphere lamp of radius 0.1 moves 0.02 a
-            // frame across the direction to the plane (about 0.2 radii).
-            test::SetMovingTestLight(settings, isInfinite, isInfinite ? 0.01f : 0.1f, isInfinite ? 0.002f : 0.02f, frame, kPlaneViewZ);
-            rig.SetSettings(settings);
-            scene.edgeOffset = 0.02f * float(frame);
-            Inputs in = scene.Make(16000 + frame);
-            SetShadowData(in, [&](uint32_t, uint32_t) { return penumbraPixels; });
-            std::vector<float> out = rig.Frame(frame, in);
-            REQUIRE(CountNonFinite(out) == 0);
-            if (frame < 2)
-                continue; // No previous light on frame 0, a one-frame history on frame 1.
-            for (size_t i = 0; i < out.size(); i++)
-                changed += std::abs(out[i] - in.visibility[i]) > 1e-3f;
-        }
-        return changed;
+    auto count = [&](bool isInfinite, float dataPixels) {
+        MovingLightEdge r;
+        r.isInfinite = isInfinite;
+        r.size = isInfinite ? 0.01f : 0.1f;
+        r.step = isInfinite ? 0.002f : 0.02f;
+        r.penumbraRadius = 0.1f;
+        r.dataPixels = dataPixels;
+        r.edgeStep = 0.02f;
+        r.frames = 12;
+        r.firstCounted = 2;
+        r.seed = 16000;
+        return CountUnlikeSamples(*context, r);
     };
-    size_t hard = run(true, 0.1f);
-    size_t terminator = run(true, 0.0f);
-    size_t lampTerminator = run(false, 0.0f);
+    size_t hard = count(true, 0.1f);
+    size_t terminator = count(true, 0.0f);
+    size_t lampTerminator = count(false, 0.0f);
     std::printf("TILED_SHADOW slowly moving light, pixels unlike their sample over 10 frames: hard shadow %zu, a sun's "
                 "terminator %zu, a sphere lamp's terminator %zu\n",
                 hard, terminator, lampTerminator);
