@@ -1360,7 +1360,8 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples under camera motion", "[vu
     // IN_SHADOWDATA bound. Bands of 8 columns (in screen space) give the shadowed samples a penumbra
     // radius of 0.05 pixel (a contact shadow: the sample is exact) or 0.2 pixel (under a quarter pixel,
     // but the pixel centre may lie within it). On the 8th frame the first are output as sampled
-    // (TS_MOVING_EXACT_PENUMBRA), the others filtered from their lit neighbours like penumbra noise.
+    // (TS_MOVING_EXACT_PENUMBRA), the others filtered from their lit neighbours like penumbra noise;
+    // so are the lit samples beside them (TS_MOVING_EXACT_LIT_NEIGHBORS).
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
     const uint32_t w = 64, h = 48;
@@ -1385,14 +1386,40 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples under camera motion", "[vu
     }
     ShadowedOutput contact = MeasureShadowed(in, out, isContactBand);
     ShadowedOutput quarter = MeasureShadowed(in, out, isQuarterBand);
+    // The lit side: lit samples with 5 to 7 lit neighbours, their 3x3 inside one band
+    // (TS_MOVING_EXACT_LIT_NEIGHBORS), output exactly 1 next to the contact shadows only.
+    auto litSide = [&](bool isContact) {
+        uint32_t ones = 0, count = 0;
+        for (uint32_t y = 1; y + 1 < h; y++)
+            for (uint32_t x = 1; x + 1 < w; x++)
+            {
+                if (x % 8 == 0 || x % 8 == 7 || isContactBand(x, y) != isContact || in.visibility[size_t(y) * w + x] < 0.5f)
+                    continue;
+                int lit = -1;
+                for (int j = -1; j <= 1; j++)
+                    for (int i = -1; i <= 1; i++)
+                        lit += in.visibility[size_t(int(y) + j) * w + size_t(int(x) + i)] > 0.5f ? 1 : 0;
+                if (lit < 5 || lit == 8)
+                    continue;
+                ones += out[size_t(y) * w + x] == 1.0f ? 1u : 0u;
+                count++;
+            }
+        return std::make_pair(ones, count);
+    };
+    auto contactLit = litSide(true), quarterLit = litSide(false);
     std::printf("TILED_SHADOW moving camera, shadowed samples: penumbra 0.05 pixel %u of %u output 0 (mean %.3f), 0.2 pixel "
-                "%u of %u (mean %.3f)\n",
-                contact.zeros, contact.count, contact.mean, quarter.zeros, quarter.count, quarter.mean);
+                "%u of %u (mean %.3f); lit samples beside them output 1: %u of %u, %u of %u\n",
+                contact.zeros, contact.count, contact.mean, quarter.zeros, quarter.count, quarter.mean, contactLit.first,
+                contactLit.second, quarterLit.first, quarterLit.second);
     REQUIRE(contact.count >= 300);
     REQUIRE(quarter.count >= 300);
+    REQUIRE(contactLit.second >= 50);
+    REQUIRE(quarterLit.second >= 50);
     CHECK(contact.zeros >= contact.count * 3 / 4);
     CHECK(contact.mean <= 0.05);
     CHECK(quarter.mean >= 0.2);
+    CHECK(contactLit.first == contactLit.second);
+    CHECK(quarterLit.first <= quarterLit.second / 4);
     CHECK(context->ValidationMessageCount() == 0);
 }
 

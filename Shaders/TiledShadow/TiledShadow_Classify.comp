@@ -148,8 +148,11 @@
 // output as it is whatever its history (resampled every frame, it greys a hard shadow's small parts:
 // the contact shadows of mesh_engine's machine). Up to TS_HARD_ARRIVAL_PENUMBRA it gained more relMSE
 // on the camera scenes at 64x64, but took camera_rotation above the input's FLIP at another seed (a
-// pixel centre within a quarter-pixel penumbra is not exact).
+// pixel centre within a quarter-pixel penumbra is not exact). The lit side of such an edge: a lit
+// sample with at least TS_MOVING_EXACT_LIT_NEIGHBORS lit neighbours, whose shadowed neighbours all
+// have a penumbra radius above 0 and under TS_MOVING_EXACT_PENUMBRA, is output as it is too.
 #define TS_MOVING_EXACT_PENUMBRA 0.1
+#define TS_MOVING_EXACT_LIT_NEIGHBORS 5
 #define TS_MOVED_CONTRADICTIONS 2
 #define TS_MOVED_CONTRADICTIONS_LIT 3
 #define TS_MOVED_LIT_NEIGHBORS 3
@@ -1026,6 +1029,22 @@ void main()
                                abs(result - sample0) < TS_SETTLED_MOVING && abs(temporalMean - sample0) < TS_SETTLED_MOVING;
         // TS_MOVING_LIT_NEIGHBORS: the lit side of a hard edge that a moving light carried.
         bool isLitMovedEdge = movedKeep < NRD_FP16_MAX && sample0 != 0.0 && litNeighbors >= TS_MOVING_LIT_NEIGHBORS && !isDisoccluded;
+#if TS_SHADOW_DATA
+        // TS_MOVING_EXACT_LIT_NEIGHBORS: the lit side of an exact edge under camera motion.
+        if (isMoving && !isDisoccluded && sample0 != 0.0 && litNeighbors >= TS_MOVING_EXACT_LIT_NEIGHBORS && litNeighbors < 8)
+        {
+            bool isExactEdge = true;
+            for (int i = 0; i < 9 && isExactEdge; i++)
+            {
+                if (((near >> uint((i / 3 + 1) * 5 + i % 3 + 1)) & 1u) != 0u)
+                    continue; // Lit (the centre, outside the image).
+                ivec2 q = pixel + ivec2(i % 3 - 1, i / 3 - 1);
+                float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y * gProjectY;
+                isExactEdge = p > 0.0 && p < TS_MOVING_EXACT_PENUMBRA;
+            }
+            isLitMovedEdge = isLitMovedEdge || isExactEdge;
+        }
+#endif
         bool isTurned = false;
         for (int i = 0; i < 9 && isMoving && !isTurned; i++)
         {
