@@ -39,6 +39,16 @@ vec2 _NRD_PreviousUv(vec2 uv, vec3 worldPos, vec3 mv, out vec3 worldPosPrev)
     return (clip.xy / clip.w) * 0.5 + 0.5;
 }
 
+// Pixels between 'uvPrev' (_NRD_PreviousUv's) and where the camera's motion alone takes world position
+// 'worldPos': the surface's own motion on screen, 0 on a still object (and without motion vectors).
+float _NRD_ObjectMotionPixels(vec2 uvPrev, vec3 worldPos)
+{
+    vec4 clip = gWorldToClipPrev * vec4(worldPos, 1.0);
+    vec2 uvCamera = clip.w > NRD_EPS ? (clip.xy / clip.w) * 0.5 + 0.5 : vec2(-1.0);
+    vec2 pixels = abs(uvPrev - uvCamera) * vec2(gResourceSize);
+    return max(pixels.x, pixels.y);
+}
+
 // Previous viewZ of a world position (for comparison with the previous viewZ texture).
 float _NRD_PreviousViewZ(vec3 worldPosPrev) { return (gWorldToViewPrev * vec4(worldPosPrev, 1.0)).z * gViewZSign; }
 

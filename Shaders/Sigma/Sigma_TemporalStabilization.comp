@@ -17,7 +17,8 @@
 // whether this frame's sample was lit, whether a hard shadow's departure restarted it, whether
 // its tile was moving and whether the sample was lit in the frame before too (viewZ bits with the 5
 // low bits replaced by the length, bit 5 by the sample, bit 6 by the restart, bit 7 by the moving
-// tile, bit 8 by the two lit samples).
+// tile, bit 8 by the two lit samples, bit 9 where a hard shadow's history is its samples' running mean
+// under motion).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -39,7 +40,10 @@
 #define HISTORY_MOVING_BIT 128u
 // Bit 8 of the packed viewZ: the pixel's sample was lit, and so was the one of the frame before.
 #define HISTORY_LIT_TWICE_BIT 256u
-#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT | HISTORY_MOVING_BIT | HISTORY_LIT_TWICE_BIT))
+// Bit 9 of the packed viewZ: a hard shadow's history written under resampling (camera or surface
+// motion): the running mean of its samples, not a still view's result.
+#define HISTORY_MEAN_BIT 512u
+#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT | HISTORY_MOVING_BIT | HISTORY_LIT_TWICE_BIT | HISTORY_MEAN_BIT))
 // Clamping box: mean +- SIGMA_SCALE * sigma. History length lost per unit of clamping displacement:
 // higher values follow moving shadows (moving lights and occluders) sooner at some cost in noise
 // on still ones (measured on the scene lab's static / moving_light / moving_occluder scenes).
@@ -64,6 +68,19 @@
 #define HARD_SHADOW_FOLLOWER_BLEND 0.3
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
+// Under resampling a hard shadow's history is the running mean of its samples over at most
+// HARD_SHADOW_MEAN_FRAMES frames; a lit sample under a mean below HARD_SHADOW_MEAN_DARK takes
+// HARD_SHADOW_MEAN_BLEND of the mean, weighted by the penumbra's kernel radius (all from
+// HARD_SHADOW_MEAN_RADIUS pixel), unless
+// the previous frame's sample there was lit too and the mean is above HARD_SHADOW_MEAN_LIT_AGAIN, or
+// where the surface moves on screen by more than HARD_SHADOW_MEAN_OBJECT_MOTION pixel beyond the camera's
+// motion.
+#define HARD_SHADOW_MEAN_FRAMES 16.0
+#define HARD_SHADOW_MEAN_DARK 0.5
+#define HARD_SHADOW_MEAN_BLEND 0.75
+#define HARD_SHADOW_MEAN_RADIUS 0.2
+#define HARD_SHADOW_MEAN_LIT_AGAIN 0.35
+#define HARD_SHADOW_MEAN_OBJECT_MOTION 0.05
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
@@ -134,11 +151,11 @@ bool CatmullRomHistory(ivec2 origin, vec2 f, float expectedViewZ, float toleranc
     return true;
 }
 
-uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving, bool isLitTwice)
+uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving, bool isLitTwice, bool isMean)
 {
     return (floatBitsToUint(viewZ) & HISTORY_VIEWZ_MASK) | min(uint(historyLength + 0.5), HISTORY_LENGTH_MASK) |
            (isLit ? HISTORY_SAMPLE_BIT : 0u) | (isDeparted ? HISTORY_DEPARTED_BIT : 0u) | (isMoving ? HISTORY_MOVING_BIT : 0u) |
-           (isLit && isLitTwice ? HISTORY_LIT_TWICE_BIT : 0u);
+           (isLit && isLitTwice ? HISTORY_LIT_TWICE_BIT : 0u) | (isMean ? HISTORY_MEAN_BIT : 0u);
 }
 
 // Lit samples (blurred signal at least 0.5) among the 8 neighbours of shared-memory position 'c'.
@@ -166,14 +183,15 @@ int DepartureLevel(ivec2 q, SIGMA_TYPE currentValue, uint packed)
 // Marks a pixel without history (sky): its viewZ never matches.
 const uint kNoHistory = 0x7F7FFF80u; // ~3.4e38, length 0, flags clear
 
-// 'isPassed': the output is this frame's sample (the history keeps 'result').
-void WriteResult(ivec2 pixel, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current, bool isDeparted,
-                 bool isPassed, bool isMoving, bool wasLit)
+// 'shown': the output ('isPassed': this frame's sample instead); 'result': the history.
+void WriteResult(ivec2 pixel, SIGMA_TYPE shown, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current, bool isDeparted,
+                 bool isPassed, bool isMoving, bool wasLit, bool isMean)
 {
-    imageStore(gOut_ShadowTranslucency, pixel, vec4(isPassed ? current : result));
+    imageStore(gOut_ShadowTranslucency, pixel, vec4(isPassed ? current : shown));
     imageStore(gHistory_Shadow, pixel, vec4(result));
     bool isLit = _Sigma_MaxComponent(current) >= 0.5;
-    imageStore(gHistory_ViewZHistoryLength, pixel, uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted, isMoving, wasLit)));
+    imageStore(gHistory_ViewZHistoryLength, pixel,
+               uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted, isMoving, wasLit, isMean)));
 }
 
 void main()
@@ -195,7 +213,7 @@ void main()
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
-            WriteResult(pixel, value, z, gMaxStabilizedFrameNum, value, false, false, false, false);
+            WriteResult(pixel, value, value, z, gMaxStabilizedFrameNum, value, false, false, false, false, false);
         }
         return;
     }
@@ -252,6 +270,9 @@ void main()
     int contradiction = 0;
     bool wasLit = false;
     bool isResampledHard = false;
+    bool isMovingHard = false; // isResampledHard by this frame's motion (not only by a mean history)
+    bool isObjectMoving = false; // The surface moves on screen by more than the camera's motion.
+    uint nearestPacked = 0u; // The nearest history texel's packed viewZ, where it passed the disocclusion test.
     float tapLit = 0.0;
     float kernelRadius = 0.0;
     float shadowMotion = 0.0; // Pixels the light's move carried the shadow this frame (ShadowMotion.glsl).
@@ -325,6 +346,7 @@ void main()
         vec3 Xprev;
         vec2 uvPrev = _NRD_PreviousUv(uv, X, mv, Xprev);
         expectedViewZ = _NRD_PreviousViewZ(Xprev);
+        isObjectMoving = _NRD_ObjectMotionPixels(uvPrev, X) > HARD_SHADOW_MEAN_OBJECT_MOTION;
 
         // Disocclusion tolerance: relative depth, plus the depth change across the one pixel that
         // separates a bilinear tap from the reprojected point on a surface seen at a grazing angle.
@@ -342,11 +364,11 @@ void main()
         // input is as sharp as the truth there, and resampled history (even Catmull-Rom) would soften
         // it. (Fading history out up to 3-pixel penumbrae instead helped rotating cameras and hurt
         // translating ones by as much.) Where it needs resampling, see isResampledHard below.
+        // So does a whole-pixel move (the nearest history texel is another pixel's), and the first
+        // still frame after motion (the nearest texel holds a running mean, HISTORY_MEAN_BIT).
         vec2 subpixel = min(f, 1.0 - f);
-        isResampledHard = isHardShadow && max(subpixel.x, subpixel.y) >= 0.01;
-        // (Such a pixel reads its history only where it may take some: a lit sample, a penumbra
-        // estimate above 0.1 pixel.)
-        isValidUv = isValidUv && !(isResampledHard && (_Sigma_MaxComponent(current) < 0.5 || kernelRadius <= 0.1));
+        int nearestTap = (f.x >= 0.5 ? 1 : 0) + (f.y >= 0.5 ? 2 : 0);
+        isMovingHard = isHardShadow && (max(subpixel.x, subpixel.y) >= 0.01 || origin + ivec2(nearestTap & 1, nearestTap >> 1) != pixel);
         for (int k = 0; k < 4 && isValidUv; k++)
         {
             ivec2 q = origin + ivec2(k & 1, k >> 1);
@@ -356,12 +378,15 @@ void main()
             float prevViewZ = uintBitsToFloat(packed & HISTORY_VIEWZ_MASK);
             if (!(abs(prevViewZ - expectedViewZ) <= tolerance))
                 continue;
+            if (k == nearestTap)
+                nearestPacked = packed;
             float w = bilinear[k];
             tapLit += (packed & HISTORY_SAMPLE_BIT) != 0u ? w : 0.0;
             history += LoadHistory(q) * w;
             historyLength += float(packed & HISTORY_LENGTH_MASK) * w;
             historyWeight += w;
         }
+        isResampledHard = isMovingHard || (isHardShadow && (nearestPacked & HISTORY_MEAN_BIT) != 0u);
 
         // Moving-tile test, 1: the hard-shadow pixels whose history needs no resampling; on an edge
         // (both samples in the 3x3 range) under settled history (within 1 - HARD_SHADOW_ARRIVAL of 0
@@ -371,8 +396,7 @@ void main()
         // samples agreed for longer than the length tells), and whether the sample does.
         if (isHardShadow && !isResampledHard && historyWeight > 0.999)
         {
-            ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
-            uint packedQ = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
+            uint packedQ = nearestPacked;
             atomicAdd(s_PixelNum, 1u);
             if ((packedQ & HISTORY_MOVING_BIT) != 0u)
                 atomicAdd(s_WasMovingNum, 1u);
@@ -450,27 +474,61 @@ void main()
 
 
     SIGMA_TYPE result = current;
+    SIGMA_TYPE shown = current; // The output where it is not the history.
+    bool isMean = false; // The history is a hard shadow's running mean (HISTORY_MEAN_BIT).
     float newLength = 1.0;
     bool isDeparted = false;
     if (isResampledHard)
     {
         // A hard shadow whose history needs resampling (camera or surface motion). Resampled history
         // softens the edges and greys the pixels beside them, where the truth is 0 or 1: the sample
-        // stays as it is, but for a lit sample where the previous frame's samples around the
-        // reprojected point were mostly dark (lit on less than HARD_SHADOW_RESAMPLED_LIT of the
-        // bilinear footprint): the pixel lies in or beside a sub-pixel penumbra, and a lit sample of
-        // a mostly dark penumbra is the costliest error there (relMSE weighs a dark truth most). It
-        // takes HARD_SHADOW_RESAMPLED_BLEND of the history (clamped to the 3x3 range), weighted by
-        // the penumbra's width: none below a kernel radius of 0.1 pixel (there a lit sample under
-        // dark history is more often a geometric detail that the previous frame's pixels missed
-        // than a penumbra), all from 0.5 pixel. A dark sample stays dark: the cost of a grey
-        // history on a pixel whose truth is 0 is 100 times that of the same error on a lit one.
-        // (The previous samples rather than the history's values: a history that this rule
-        // darkened would darken the lit pixels after it.)
-        if (historyWeight > 0.999 && _Sigma_MaxComponent(current) >= 0.5 && tapLit < HARD_SHADOW_RESAMPLED_LIT)
+        // is output as it is, and the history becomes the running mean of the samples (over at most
+        // HARD_SHADOW_MEAN_FRAMES, the resampled history clamped to the 3x3 range): where the
+        // pixel's centre lies in a sub-pixel penumbra, its samples at the points the motion carries
+        // it through average towards the pixel's coverage. Two lit samples take from it: the
+        // costliest error there is a lit sample of a mostly dark penumbra (relMSE weighs a dark truth
+        // most), and a dark sample stays dark (a grey history on a pixel whose truth is 0 costs 100
+        // times the same error on a lit one).
+        // - A lit sample under a mean below HARD_SHADOW_MEAN_DARK takes HARD_SHADOW_MEAN_BLEND of the
+        //   mean (all of it darkens the penumbra's local average, whose dark samples stay 0, and FLIP
+        //   rises), weighted by the penumbra's kernel radius (none at 0: a lit sample under dark
+        //   history there is more often a geometric detail that the previous frame's pixels missed
+        //   than a penumbra; all from HARD_SHADOW_MEAN_RADIUS). Not where the previous frame's sample
+        //   at the nearest texel was lit as well and the mean is above HARD_SHADOW_MEAN_LIT_AGAIN: a
+        //   lit corner beside a hard edge, whose mean the bilinear footprint darkens from across the
+        //   edge. Nor on a moving object: its shadows move over it as it turns under the light (a
+        //   spider's legs: lit pixels whose mean holds the self-shadow of a few frames before).
+        // - A lit sample where the previous frame's samples around the reprojected point were mostly
+        //   dark (lit on less than HARD_SHADOW_RESAMPLED_LIT of the bilinear footprint) takes
+        //   HARD_SHADOW_RESAMPLED_BLEND of the clamped history, weighted by the kernel radius (none
+        //   below 0.1 pixel, all from 0.5), or the above where that is darker.
+        // The first still frame after motion (the nearest texel holds a mean) restarts a dark sample:
+        // a still view's history would blend the mean, greyed by the resampling, into an exact 0.
+        if (historyWeight > 0.999)
         {
-            float blend = HARD_SHADOW_RESAMPLED_BLEND * clamp((kernelRadius - 0.1) * 2.5, 0.0, 1.0);
-            result = mix(current, clamp(history / historyWeight, minimum, maximum), blend);
+            SIGMA_TYPE clamped = clamp(history / historyWeight, minimum, maximum);
+            float n = min(historyLength / historyWeight, HARD_SHADOW_MEAN_FRAMES);
+            SIGMA_TYPE mean = mix(current, clamped, n / (n + 1.0));
+            if (_Sigma_MaxComponent(current) >= 0.5)
+            {
+                bool wasLitThere = (nearestPacked & HISTORY_SAMPLE_BIT) != 0u;
+                float darkMean = _Sigma_MaxComponent(mean);
+                if (darkMean < HARD_SHADOW_MEAN_DARK && !(wasLitThere && darkMean > HARD_SHADOW_MEAN_LIT_AGAIN) && !isObjectMoving)
+                {
+                    float blend = HARD_SHADOW_MEAN_BLEND * clamp(kernelRadius / HARD_SHADOW_MEAN_RADIUS, 0.0, 1.0);
+                    shown = mix(current, mean, blend);
+                }
+                if (tapLit < HARD_SHADOW_RESAMPLED_LIT)
+                    shown = min(shown, mix(current, clamped, HARD_SHADOW_RESAMPLED_BLEND * clamp((kernelRadius - 0.1) * 2.5, 0.0, 1.0)));
+            }
+            result = mean;
+            newLength = n + 1.0;
+            isMean = isMovingHard;
+            if (!isMovingHard && _Sigma_MaxComponent(current) < 0.5)
+            {
+                result = current;
+                newLength = 1.0;
+            }
         }
     }
     else if (historyWeight > 1e-3)
@@ -508,7 +566,7 @@ void main()
         if (isHardShadow && historyWeight > 0.999 && _Sigma_MaxComponent(current) >= 0.5)
         {
             ivec2 q = origin + ivec2(greaterThanEqual(f, vec2(0.5)));
-            uint packedQ = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), q, 0).x;
+            uint packedQ = nearestPacked;
             int level = DepartureLevel(q, current, packedQ);
             bool wasLit = (packedQ & HISTORY_SAMPLE_BIT) != 0u;
             bool mayFollow = wasLit && _Sigma_MaxComponent(current - history) > 1.0 - HARD_SHADOW_ARRIVAL;
@@ -587,5 +645,8 @@ void main()
     if (isHardShadow && !isResampledHard && historyWeight > 0.999 && kernelRadius >= HARD_SHADOW_RESTART_RADIUS &&
         (isRestarted || isFollower) && !isPassed && _Sigma_MaxComponent(maximum - minimum) >= 0.5)
         result = mix(result, nearMean, isRestarted ? HARD_SHADOW_RESTART_BLEND : HARD_SHADOW_FOLLOWER_BLEND);
-    WriteResult(pixel, _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed, isHardShadow && isMovingTile, wasLit);
+    if (!isResampledHard)
+        shown = result;
+    WriteResult(pixel, _Sigma_Signal01(shown), _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed,
+                isHardShadow && isMovingTile, wasLit, isMean);
 }
