@@ -71,10 +71,9 @@
 // Under resampling a hard shadow's history is the running mean of its samples over at most
 // HARD_SHADOW_MEAN_FRAMES frames; a lit sample under a mean below HARD_SHADOW_MEAN_DARK takes
 // HARD_SHADOW_MEAN_BLEND of the mean, weighted by the penumbra's kernel radius (all from
-// HARD_SHADOW_MEAN_RADIUS pixel), unless
-// the previous frame's sample there was lit too and the mean is above HARD_SHADOW_MEAN_LIT_AGAIN, or
-// where the surface moves on screen by more than HARD_SHADOW_MEAN_OBJECT_MOTION pixel beyond the camera's
-// motion.
+// HARD_SHADOW_MEAN_RADIUS pixel), unless the previous frame's sample there was lit too and the mean
+// is above HARD_SHADOW_MEAN_LIT_AGAIN, or the surface moves on screen by more than
+// HARD_SHADOW_MEAN_OBJECT_MOTION pixel beyond the camera's motion (see main).
 #define HARD_SHADOW_MEAN_FRAMES 16.0
 #define HARD_SHADOW_MEAN_DARK 0.5
 #define HARD_SHADOW_MEAN_BLEND 0.75
