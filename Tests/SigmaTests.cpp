@@ -68,6 +68,18 @@ struct Scene
     float CameraX(float shiftPixels) const { return shiftPixels * 2.0f * kPlaneViewZ / float(width); }
 };
 
+// Frame 'frame' of a camera translating along +x by 'speed' pixels a frame: sets the scene's shift
+// (for MakeFrame) and returns the settings with this and the previous frame's camera.
+CommonSettings TranslatingCamera(Scene& scene, uint32_t frame, float speed)
+{
+    float shift = speed * float(frame), shiftPrev = speed * float(frame ? frame - 1 : 0);
+    scene.cameraShift = shift;
+    CommonSettings settings = test::StillCameraSettings(frame);
+    settings.worldToViewMatrix[12] = -scene.CameraX(shift);
+    settings.worldToViewMatrixPrev[12] = -scene.CameraX(shiftPrev);
+    return settings;
+}
+
 // Inputs of one frame and the ground truth (RGBA, .x shadow, .yzw translucency).
 struct FrameData
 {
@@ -483,21 +495,17 @@ TEST_CASE("SIGMA follows camera motion with matrices, 2D and 3D motion vectors",
         const float speed = 1.5f; // Pixels per frame, not a whole number: bilinear history.
         for (uint32_t frame = 0; frame < frames; frame++)
         {
-            float shift = speed * float(frame), shiftPrev = speed * float(frame ? frame - 1 : 0);
-            rig.scene.cameraShift = shift;
+            CommonSettings settings = TranslatingCamera(rig.scene, frame, speed);
             FrameData f = MakeFrame(rig.scene, 7000 + frame);
-            CommonSettings settings = test::StillCameraSettings(frame);
-            settings.worldToViewMatrix[12] = -rig.scene.CameraX(shift);
-            settings.worldToViewMatrixPrev[12] = -rig.scene.CameraX(shiftPrev);
             if (mode == 0)
             {
                 settings.motionVectorScale[0] = settings.motionVectorScale[1] = settings.motionVectorScale[2] = 0.0f;
             }
             else if (mode == 1)
             {
-                // uvPrev = uv + mv: the point now at x was at x + (shift - shiftPrev) pixels.
+                // uvPrev = uv + mv: the point now at x was at x + speed pixels (frame 0: still).
                 for (size_t i = 0; i < f.mv.size(); i += 2)
-                    f.mv[i] = (shift - shiftPrev) / float(scene.width);
+                    f.mv[i] = (frame ? speed : 0.0f) / float(scene.width);
             }
             else
             {
@@ -1074,12 +1082,8 @@ TEST_CASE("SIGMA outputs a lit sample of a mostly dark sub-pixel penumbra under 
     size_t litInDarkNum = 0, inexactLit = 0, inexactDark = 0;
     for (uint32_t frame = 0; frame < 14; frame++)
     {
-        float shift = speed * float(frame), shiftPrev = speed * float(frame ? frame - 1 : 0);
-        rig.scene.cameraShift = shift;
+        CommonSettings settings = TranslatingCamera(rig.scene, frame, speed);
         FrameData f = MakeFrame(rig.scene, 15000 + frame);
-        CommonSettings settings = test::StillCameraSettings(frame);
-        settings.worldToViewMatrix[12] = -rig.scene.CameraX(shift);
-        settings.worldToViewMatrixPrev[12] = -rig.scene.CameraX(shiftPrev);
         settings.motionVectorScale[0] = settings.motionVectorScale[1] = settings.motionVectorScale[2] = 0.0f;
         std::vector<float> output = rig.Frame(settings, f);
         REQUIRE(AllFinite(output));
