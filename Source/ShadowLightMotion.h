@@ -35,6 +35,9 @@ struct ShadowLightMotionConstants
     glsl::vec4 lightPositionView = {}; // .xyz sphere light in view space, .w 1 / radius
     glsl::vec4 lightMotionView = {};   // .xyz its move since the previous frame in view space, .w 1 if it moved
     float motionPerPenumbra = 0.0f;    // infinite light: penumbra radii its turn moved every shadow
+    glsl::vec4 occluderLightView = {}; // infinite light: .xyz direction towards it in view space, .w distance
+                                       // to the occluder per unit of penumbra radius (1 / tan of its
+                                       // angular radius); zeros: unknown (a sphere light uses the above)
 };
 
 // The light's fields of a shadow denoiser's settings: tan of an infinite light's angular radius in
@@ -78,6 +81,16 @@ public:
         }
         ShadowLightMotionConstants c = {};
         c.motionPerPenumbra = m_MotionPerPenumbra;
+        if (m_HasDirection && light.tanOfAngularRadius > 0.0f)
+        {
+            const float* m = worldToView;
+            float v[3];
+            for (int row = 0; row < 3; row++)
+                v[row] = m[0 * 4 + row] * m_Direction[0] + m[1 * 4 + row] * m_Direction[1] + m[2 * 4 + row] * m_Direction[2];
+            float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            if (length > 1e-12f && std::isfinite(length))
+                c.occluderLightView = {v[0] / length, v[1] / length, v[2] / length, 1.0f / light.tanOfAngularRadius};
+        }
         if (light.radius > 0.0f && light.position)
         {
             // Column-major world -> view, as CommonSettings::worldToViewMatrix.
@@ -137,7 +150,7 @@ private:
 
 // The light fields of a shadow denoiser's settings (lightDirection, tanOfLightAngularRadius,
 // lightPosition, lightRadius: SigmaSettings, TiledShadowSettings) into its pass constants
-// (gShadowMotionPerPenumbra, gLightPositionView, gLightMotionView).
+// (gShadowMotionPerPenumbra, gLightPositionView, gLightMotionView, gOccluderLightView).
 template <class Settings, class Constants>
 void SetShadowLightMotion(ShadowLightMotion& motion, const Settings& s, const FrameData& frame, Constants& c)
 {
@@ -150,6 +163,7 @@ void SetShadowLightMotion(ShadowLightMotion& motion, const Settings& s, const Fr
     c.gShadowMotionPerPenumbra = m.motionPerPenumbra;
     c.gLightPositionView = m.lightPositionView;
     c.gLightMotionView = m.lightMotionView;
+    c.gOccluderLightView = m.occluderLightView;
 }
 
 } // namespace nrd

@@ -40,8 +40,8 @@ struct Shortfall
 
 // clang-format off
 const Shortfall kShortfalls[] = {
-    {"mesh_thin", "SIGMA_SHADOW", 64, 0.94, 1.63}, // ratio 1.089 (oracle 0.86), FLIP 0.0169 -> 0.0249 (lavapipe)
-    {"mesh_thin", "SIGMA_SHADOW", 128, 0.96, 1.19}, // ratio 1.072 (oracle 0.90), FLIP 0.0169 -> 0.0182 (lavapipe)
+    {"mesh_thin", "SIGMA_SHADOW", 64, 0.91, 1.10}, // ratio 1.009 (oracle 0.86), FLIP 0.0169 -> 0.0170 (lavapipe)
+    {"mesh_thin", "SIGMA_SHADOW", 128, 0.93, 1.11}, // ratio 1.037 (oracle 0.90), FLIP 0.0169 -> 0.0171 (lavapipe)
     {"mesh_engine", "TILED_SHADOW", 64, 1.05, 1.11}, // ratio 1.176 (oracle 1.23), FLIP 0.00560 -> 0.00561 (lavapipe)
     {"mesh_thin", "TILED_SHADOW", 64, 0.26, 1.89}, // ratio 0.291 (oracle 0.86), FLIP 0.0169 -> 0.0290 (lavapipe)
     {"mesh_thin", "TILED_SHADOW", 128, 0.41, 1.58}, // ratio 0.462 (oracle 0.90), FLIP 0.0169 -> 0.0241 (lavapipe)

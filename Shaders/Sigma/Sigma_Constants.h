@@ -7,7 +7,8 @@
 // gPlaneDistanceSensitivity  plane distance tolerance relative to viewZ
 // gMaxStabilizedFrameNum  temporal stabilization length in frames
 // gShadowMotionPerPenumbra, gLightPositionView, gLightMotionView: the light's move since the previous
-//                         frame (Shaders/Include/ShadowMotion.glsl, Source/ShadowLightMotion.h)
+//                         frame; gOccluderLightView: where an infinite light's occluders lie
+//                         (Shaders/Include/ShadowMotion.glsl, Source/ShadowLightMotion.h)
 #ifndef SIGMA_TRANSLUCENCY
 #define SIGMA_TRANSLUCENCY 0
 #endif
@@ -19,4 +20,5 @@
     NRD_CONSTANT(float, gMaxStabilizedFrameNum)      \
     NRD_CONSTANT(float, gShadowMotionPerPenumbra)    \
     NRD_CONSTANT(vec4, gLightPositionView)           \
-    NRD_CONSTANT(vec4, gLightMotionView)
+    NRD_CONSTANT(vec4, gLightMotionView)             \
+    NRD_CONSTANT(vec4, gOccluderLightView)

@@ -25,7 +25,8 @@ NRD_CONSTANTS_BEGIN
     NRD_CONSTANT(float, gLocalMeanNoise)         // Standard error of the local mean per unit of sample sigma.
     NRD_CONSTANT(float, gShadowMotionPerPenumbra) // The light's move since the previous frame
     NRD_CONSTANT(vec4, gLightPositionView)       // (Shaders/Include/ShadowMotion.glsl; read by the
-    NRD_CONSTANT(vec4, gLightMotionView)         // TS_SHADOW_DATA variant).
+    NRD_CONSTANT(vec4, gLightMotionView)         // TS_SHADOW_DATA variant), and where the occluders
+    NRD_CONSTANT(vec4, gOccluderLightView)       // of an infinite light's shadows lie.
     NRD_CONSTANT(vec2, gInvStateSize)            // 1 / the state texture's size (the render size; gResourceSize may be less).
 NRD_CONSTANTS_END
 NRD_INPUT_UINT(0, gIn_Mask)                      // Prepare's output or IN_SHADOW_BITMASK.
