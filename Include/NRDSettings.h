@@ -92,6 +92,10 @@ struct SigmaSettings
     // sphere light wins where both are set. One light: where IN_SHADOWDATA packs several
     // (SIGMA_FrontEnd_MultiLight*), the shadows of the others would be taken for moving ones; leave
     // these at 0 unless they all move together.
+    // The same light also places each shadow's occluder (toward the light, at the distance its
+    // penumbra gives): where the occluder is in view and its motion vector says it moved, a hard
+    // shadow under half a pixel soft keeps as little history as a moving light's (an animated
+    // object's shadow on a still floor).
     float tanOfLightAngularRadius = 0.0f;
     float lightPosition[3] = {0.0f, 0.0f, 0.0f};
     float lightRadius = 0.0f;
@@ -190,7 +194,9 @@ struct TiledShadowSettings
     // angular radius ([0, 1]) or a sphere light's world-space position and radius ([0, 1e6]; wins
     // where both are set). A hard shadow (penumbra radius under a pixel) that the light's move since
     // the previous frame carried keeps at most 1/20 pixel of that motion in its history, and outputs
-    // its sample where not a whole frame fits. Zeros: unknown (nothing changes).
+    // its sample where not a whole frame fits; so does one whose occluder (placed by the light and
+    // the penumbra) is in view and moved, where the penumbrae around are under half a pixel. Zeros:
+    // unknown (nothing changes).
     bool isShadowDataInput = false;
     float lightDirection[3] = {0.0f, 0.0f, 0.0f};
     float tanOfLightAngularRadius = 0.0f;

@@ -9,7 +9,7 @@
 // where it was measured: lavapipe (CI's device) for 64x64 and 128x128, lavapipe or the NVIDIA
 // H100 / H200 for 256x256 (lavapipe gives the same relMSE ratios within 3.5%, and FLIP is printed to 4 decimals,
 // hence the margin). The triangle-mesh scenes are included:
-// TILED_SHADOW falls far short on mesh_thin (Shaders/TiledShadow/README.md).
+// both methods fall short on mesh_thin (Shaders/TiledShadow/README.md, Shaders/Sigma/README.md).
 //
 // 64x64 and 128x128 in CI (label quality, one test case per scene and size); 256x256 hidden
 // (ctest entry nrd_shadow_quality_tests_256, label slow); the executable without arguments runs all three. 24 frames, the first 8 a
@@ -43,11 +43,11 @@ const Shortfall kShortfalls[] = {
     {"mesh_thin", "SIGMA_SHADOW", 64, 0.91, 1.10}, // ratio 1.009 (oracle 0.86), FLIP 0.0169 -> 0.0170 (lavapipe)
     {"mesh_thin", "SIGMA_SHADOW", 128, 0.93, 1.11}, // ratio 1.037 (oracle 0.90), FLIP 0.0169 -> 0.0171 (lavapipe)
     {"mesh_engine", "TILED_SHADOW", 64, 1.05, 1.11}, // ratio 1.176 (oracle 1.23), FLIP 0.00560 -> 0.00561 (lavapipe)
-    {"mesh_thin", "TILED_SHADOW", 64, 0.26, 1.89}, // ratio 0.291 (oracle 0.86), FLIP 0.0169 -> 0.0290 (lavapipe)
-    {"mesh_thin", "TILED_SHADOW", 128, 0.41, 1.58}, // ratio 0.462 (oracle 0.90), FLIP 0.0169 -> 0.0241 (lavapipe)
+    {"mesh_thin", "TILED_SHADOW", 64, 0.70, 1.21}, // ratio 0.774 (oracle 0.86), FLIP 0.0169 -> 0.0186 (lavapipe)
+    {"mesh_thin", "TILED_SHADOW", 128, 0.96, 1.25}, // ratio 1.066 (oracle 0.90), FLIP 0.0169 -> 0.0191 (lavapipe)
     {"camera_translation", "SIGMA_SHADOW", 256, 1.70, 1.00}, // ratio 1.892 (oracle 4.00), FLIP 0.0048 -> 0.0045 (lavapipe)
     {"fast_orbit", "SIGMA_SHADOW", 256, 1.51, 1.00}, // ratio 1.679 (oracle 3.67), FLIP 0.0052 -> 0.0049 (lavapipe)
-    {"mesh_thin", "TILED_SHADOW", 256, 0.73, 1.48}, // ratio 0.811 (oracle 0.87), FLIP 0.0153 -> 0.0203 (lavapipe)
+    {"mesh_thin", "TILED_SHADOW", 256, 0.82, 1.38}, // ratio 0.912 (oracle 0.87), FLIP 0.0153 -> 0.0191 (lavapipe)
 };
 // clang-format on
 
@@ -103,6 +103,37 @@ void CheckDoNoHarm(const std::string& name, uint32_t size)
             CHECK(ratio >= 0.5 * oracleRatio);
         }
     }
+}
+
+// mesh_thin's spider turns over a still floor: its legs' shadows, under half a pixel soft, move without
+// motion vectors. Given the light's size, SIGMA_SHADOW places each shadow's occluder and reads its
+// motion (Shaders/Include/ShadowMotion.glsl): the output's FLIP stays within 1% of the input's
+// (lavapipe: 1.004x), where without it the history trails the legs (1.47x).
+TEST_CASE("SIGMA_SHADOW follows shadows that a moving occluder carries once told the light's size", "[quality]")
+{
+    double flipRatio[2] = {}, relmseRatio[2] = {};
+    for (int isGiven = 0; isGiven < 2; isGiven++)
+    {
+        nrdlab::RunOptions o;
+        o.scene = "mesh_thin";
+        o.method = "SIGMA_SHADOW";
+        o.width = o.height = 64;
+        o.frames = 24;
+        o.warmup = 8;
+        o.truthSpp = 32;
+        o.keepImages = false;
+        o.settingsJson = isGiven ? "{}" : "{\"sigma\": {\"isLightSizeGiven\": false}}";
+        nrdlab::RunReport r;
+        std::string error;
+        REQUIRE(nrdlab::RunMethod(o, r, error));
+        flipRatio[isGiven] = r.mean.flipDenoised / r.mean.flipNoisy;
+        relmseRatio[isGiven] = r.mean.relmseNoisy / std::max(r.mean.relmseDenoised, 1e-12);
+    }
+    std::printf("SIGMA_SHADOW mesh_thin 64x64: FLIP %.4fx the input's with the light's size, %.4fx without; relMSE "
+                "ratio %.3f / %.3f\n", flipRatio[1], flipRatio[0], relmseRatio[1], relmseRatio[0]);
+    CHECK(flipRatio[1] <= 1.01);
+    CHECK(flipRatio[0] >= 1.2);
+    CHECK(relmseRatio[1] >= 0.95);
 }
 
 // One test case per size and built-in scene ("shadow denoisers do no harm on <scene> at <n>x<n>"),

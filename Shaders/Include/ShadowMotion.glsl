@@ -66,6 +66,14 @@ float _NRD_ShadowMotion_KeptFrames(float motionPixels)
 // hidden behind another surface, reads as still. The pass binds gIn_ViewZ and gIn_Mv (IN_VIEWZ,
 // IN_MV).
 #define NRD_SHADOW_MOTION_OCCLUDER_DEPTH 0.05
+// The denoisers use an occluder's motion where the shadowed samples around a pixel all have penumbra
+// radii under this many pixels: there the 1-spp sample is nearly exact, and a history that the
+// occluder's move displaced only lags (mesh_thin: the spider's legs, a pixel or two wide, turn over a
+// still floor). Wider penumbrae keep their history: their samples are noise that it averages (at 0.6
+// pixel SIGMA's relMSE ratio on moving_occluder at 64x64 fell from 2.09 to 1.42, at 0.75
+// TILED_SHADOW's from 2.30 to 1.30: its flying sphere, seen in front of another sphere's shadowed
+// side, reads as that shadow's occluder).
+#define NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA 0.5
 
 // Screen motion (uv, beyond the camera's) of a surface point at pixel 'p' with viewZ 'z'.
 vec2 _NRD_ShadowMotion_OwnMotion(ivec2 p, float z)

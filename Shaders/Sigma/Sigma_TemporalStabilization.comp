@@ -86,15 +86,9 @@ shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
 shared float s_Penumbra[SMEM_SIZE][SMEM_SIZE]; // pixels; stored only while the light moves
 shared float s_OccluderMotion[SMEM_SIZE][SMEM_SIZE]; // pixels a moving occluder carried the shadow (0: none or unknown)
 // Shadows that moving occluders carry (Shaders/Include/ShadowMotion.glsl): a hard-shadow pixel takes
-// the fastest occluder motion of its neighbourhood of this radius (at most BORDER), among the shadowed
-// samples whose penumbra radius is under OCCLUDER_MOTION_EXACT_PENUMBRA pixels: there the 1-spp
-// sample is nearly exact, and a history that the occluder's move displaced only lags (mesh_thin: the
-// spider's legs, a pixel or two wide, turn over a still floor). Wider penumbrae keep their history
-// (their samples are noise that the history averages; at 0.6 pixel moving_occluder's relMSE ratio at
-// 64x64 fell from 2.09 to 1.42, where its flying sphere, seen in front of another sphere's shadowed
-// side, reads as that shadow's occluder).
+// the fastest occluder motion of its neighbourhood of this radius (at most BORDER), unless a shadowed
+// sample there has a penumbra radius of NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA pixels or more.
 #define OCCLUDER_MOTION_RADIUS 2
-#define OCCLUDER_MOTION_EXACT_PENUMBRA 0.5
 // Moving-tile test (see MovingTile): over the group's hard-shadow pixels, the expected number of
 // contradictions of a still view (x 1024), the contradictions with a neighbour contradicting the same
 // way (departures: lit under dark history; arrivals: dark under lit), and how many of the pixels were
@@ -258,10 +252,10 @@ void main()
         float penumbra = SIGMA_UNKNOWN_PENUMBRA;
         if (z != 0.0)
             penumbra = _NRD_Sanitize(texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), p, 0).x, SIGMA_UNKNOWN_PENUMBRA);
-        // Occluder motion where the penumbra is narrow enough to use it (OCCLUDER_MOTION_EXACT_PENUMBRA);
+        // Occluder motion where the penumbra is narrow enough to use it (NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA);
         // -1 marks a wider one.
-        float occluder = penumbra >= OCCLUDER_MOTION_EXACT_PENUMBRA ? -1.0 : 0.0;
-        if (z != 0.0 && penumbra >= 0.0 && penumbra < OCCLUDER_MOTION_EXACT_PENUMBRA)
+        float occluder = penumbra >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA ? -1.0 : 0.0;
+        if (z != 0.0 && penumbra >= 0.0 && penumbra < NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA)
             occluder = _NRD_ShadowMotion_OccluderPixels(p, z, penumbra);
         s_OccluderMotion[smemPos.y][smemPos.x] = occluder;
         if (isLightMoving)

@@ -38,6 +38,7 @@ public:
         ReadSetting(s, "planeDistanceSensitivity", m_Settings.planeDistanceSensitivity);
         ReadSetting(s, "blurRadiusScale", m_Settings.blurRadiusScale);
         ReadSetting(s, "maxStabilizedFrameNum", m_Settings.maxStabilizedFrameNum);
+        ReadSetting(s, "isLightSizeGiven", m_IsLightSizeGiven);
         return true;
     }
     nrd::Result ApplySettings(nrd::Integration& integration, nrd::Identifier id) override
@@ -49,9 +50,12 @@ public:
         memcpy(m_Settings.lightDirection, frame.light.direction, sizeof(m_Settings.lightDirection));
         // The moving light: the shadow light's. The translucency signal packs every light together,
         // whose shadows do not all move with it: unknown there.
-        m_Settings.tanOfLightAngularRadius = m_Translucency ? 0.0f : std::min(frame.light.tanOfLightAngularRadius, 1.0f);
+        // "isLightSizeGiven": false leaves its size unknown (0), as an application that gives the direction
+        // alone: the light's moves and its occluders' are then not followed.
+        bool isSized = !m_Translucency && m_IsLightSizeGiven;
+        m_Settings.tanOfLightAngularRadius = isSized ? std::min(frame.light.tanOfLightAngularRadius, 1.0f) : 0.0f;
         memcpy(m_Settings.lightPosition, frame.light.position, sizeof(m_Settings.lightPosition));
-        m_Settings.lightRadius = !m_Translucency && frame.light.type == LightType::SPHERE ? frame.light.radius : 0.0f;
+        m_Settings.lightRadius = isSized && frame.light.type == LightType::SPHERE ? frame.light.radius : 0.0f;
         integration.SetMethodSettings(id, m_Settings);
     }
 
@@ -79,6 +83,7 @@ public:
 private:
     bool m_Translucency = false;
     nrd::SigmaSettings m_Settings;
+    bool m_IsLightSizeGiven = true;
 };
 
 } // namespace
