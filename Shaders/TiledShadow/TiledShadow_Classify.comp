@@ -91,11 +91,11 @@
 // of the light's motion in their history.
 #define TS_MOVING_SOFT_RADII 0.25
 // Moving occluders (TS_SHADOW_DATA, ShadowMotion.glsl): the fastest occluder of the shadowed samples
-// of this radius around a pixel (3x3), unless one of them has a penumbra radius of
-// NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA pixels or more. The 5x5 (radius 2) took mesh_thin at
-// 64x64 from 0.77 to 0.96 (relMSE ratio) but cost 0.03 ms at 1920x1080 on the NVIDIA H200 (the
-// classification 0.098 -> 0.128 ms: 25 penumbra reads a pixel).
-#define TS_OCCLUDER_RADIUS 1
+// of this radius around a pixel (5x5), unless one of them has a penumbra radius of
+// NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA pixels or more; evaluated once per pixel of the group and
+// its border into shared memory (sOccluder). The 3x3 took mesh_thin at 64x64 to 0.77 (relMSE ratio)
+// where the 5x5 takes it to 0.96: the lit pixels a leg's shadow left lie up to 2 pixels from it.
+#define TS_OCCLUDER_RADIUS 2
 // Next to hard shadows that the light's move carried (a finite history kept, see movedKeep), the
 // samples are exact but within a penumbra radius of an edge, which the boosted filter on the short
 // history blurs: a shadowed sample of a hard penumbra (TS_HARD_ARRIVAL_PENUMBRA) and a lit one with
@@ -226,6 +226,12 @@ shared uint sMask[REGION_TILES];  // Bits of the region's tiles, pixels outside 
 shared uvec4 sMixed[REGION_TILES_Y];
 shared float sRowSum[SUM_ROWS * GROUP_SIZE];
 shared uint sTileHasSurface[GROUP_TILES_X * GROUP_TILES_Y];
+#if TS_SHADOW_DATA
+// Pixels a moving occluder carried each shadowed sample of the group and a border of
+// TS_OCCLUDER_RADIUS (ShadowMotion.glsl; 0: lit, unknown or still; -1: a penumbra too wide to use it).
+#define OCCLUDER_REGION (GROUP_SIZE + 2 * TS_OCCLUDER_RADIUS)
+shared float sOccluder[OCCLUDER_REGION * OCCLUDER_REGION];
+#endif
 
 float MomentWeight(int i)
 {
@@ -478,6 +484,24 @@ void main()
         {
             sRowSum[entry] = WeightedRowSum(RowWindow(int(entry) / GROUP_SIZE, int(entry) % GROUP_SIZE));
         }
+#if TS_SHADOW_DATA
+        for (uint entry = threadIndex; entry < OCCLUDER_REGION * OCCLUDER_REGION; entry += GROUP_SIZE * GROUP_SIZE)
+        {
+            ivec2 q = groupOrigin - TS_OCCLUDER_RADIUS + ivec2(int(entry % OCCLUDER_REGION), int(entry / OCCLUDER_REGION));
+            float motion = 0.0;
+            if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(uvec2(q), gResourceSize)))
+            {
+                float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y;
+                float zq = p >= 0.0 && p < NRD_FP16_MAX * 0.75 ? texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x : 0.0;
+                if (!_NRD_IsSky(zq)) // Shadowed samples of a surface (NaN and lit read as lit).
+                {
+                    float pixels = p * gProjectY;
+                    motion = pixels >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA ? -1.0 : _NRD_ShadowMotion_OccluderPixels(q, zq, pixels);
+                }
+            }
+            sOccluder[entry] = motion;
+        }
+#endif
     }
     barrier();
 
@@ -579,27 +603,17 @@ void main()
             else if (perPenumbra > 0.0)
                 softKeep = TS_MOVING_SOFT_RADII / perPenumbra;
         }
-        // Shadows that moving occluders carried (TS_OCCLUDER_RADIUS): a hard shadow keeps as few frames
-        // of history as for a moving light's (below 1: output as sampled).
+        // Shadows that moving occluders carried (TS_OCCLUDER_RADIUS, sOccluder): a hard shadow keeps as
+        // few frames of history as for a moving light's (below 1: output as sampled).
         float occluderMotion = 0.0;
         bool isWideAround = false;
-        for (int j = -TS_OCCLUDER_RADIUS; j <= TS_OCCLUDER_RADIUS && !isWideAround; j++)
+        for (int j = -TS_OCCLUDER_RADIUS; j <= TS_OCCLUDER_RADIUS; j++)
         {
-            for (int i = -TS_OCCLUDER_RADIUS; i <= TS_OCCLUDER_RADIUS && !isWideAround; i++)
+            for (int i = -TS_OCCLUDER_RADIUS; i <= TS_OCCLUDER_RADIUS; i++)
             {
-                ivec2 q = pixel + ivec2(i, j);
-                if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)))
-                    continue;
-                float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y;
-                if (!(p >= 0.0) || p >= NRD_FP16_MAX * 0.75)
-                    continue; // Lit or unknown.
-                float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
-                if (_NRD_IsSky(zq))
-                    continue;
-                float pixels = p * gProjectY;
-                isWideAround = pixels >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA;
-                if (!isWideAround)
-                    occluderMotion = max(occluderMotion, _NRD_ShadowMotion_OccluderPixels(q, zq, pixels));
+                float m = sOccluder[(local.y + TS_OCCLUDER_RADIUS + j) * OCCLUDER_REGION + local.x + TS_OCCLUDER_RADIUS + i];
+                occluderMotion = max(occluderMotion, m);
+                isWideAround = isWideAround || m < 0.0;
             }
         }
         if (!isWideAround && occluderMotion > 0.0)
