@@ -84,7 +84,7 @@
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
 shared float s_Penumbra[SMEM_SIZE][SMEM_SIZE]; // pixels; stored only while the light moves
-shared float s_OccluderMotion[SMEM_SIZE][SMEM_SIZE]; // pixels a moving occluder carried the shadow (0: none or unknown)
+shared float s_OccluderMotion[SMEM_SIZE][SMEM_SIZE]; // pixels a moving occluder carried the shadow (0: none or unknown; -1: too soft to tell)
 // Shadows that moving occluders carry (Shaders/Include/ShadowMotion.glsl): a hard-shadow pixel takes
 // the fastest occluder motion of its neighbourhood of this radius (at most BORDER), unless a shadowed
 // sample there has a penumbra radius of NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA pixels or more.
