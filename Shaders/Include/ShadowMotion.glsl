@@ -61,18 +61,19 @@ float _NRD_ShadowMotion_KeptFrames(float motionPixels)
 // distance to it). Where the occluder is in view (the surface seen at its screen position is not
 // behind it by more than NRD_SHADOW_MOTION_OCCLUDER_DEPTH of its depth: the occluder itself, or
 // something in front of it, most often the same object seen from another side), that surface's
-// motion vector says how far it moved on screen beyond the camera's motion, relative to the
-// receiver's own: about as far as the shadow moved over the receiver. An occluder out of view, or
-// hidden behind another surface, reads as still. The pass binds gIn_ViewZ and gIn_Mv (IN_VIEWZ,
-// IN_MV).
+// motion vector says how it moved beyond the camera's motion, relative to the receiver. An occluder
+// out of view, or hidden behind another surface, reads as still. The pass binds gIn_ViewZ and gIn_Mv
+// (IN_VIEWZ, IN_MV).
 #define NRD_SHADOW_MOTION_OCCLUDER_DEPTH 0.05
-// The denoisers use an occluder's motion where the shadowed samples around a pixel all have penumbra
-// radii under this many pixels: there the 1-spp sample is nearly exact, and a history that the
-// occluder's move displaced only lags (mesh_thin: the spider's legs, a pixel or two wide, turn over a
-// still floor). Wider penumbrae keep their history: their samples are noise that it averages (at 0.6
-// pixel SIGMA's relMSE ratio on moving_occluder at 64x64 fell from 2.09 to 1.42, at 0.75
-// TILED_SHADOW's from 2.30 to 1.30: its flying sphere, seen in front of another sphere's shadowed
-// side, reads as that shadow's occluder).
+// Where the light meets the receiver's plane at a cosine under this (a terminator), the shadow's
+// motion over it is taken as the occluder's screen motion (the projection along the light diverges).
+#define NRD_SHADOW_MOTION_GRAZING 0.05
+// The denoisers output a hard shadow's sample (no history) where the shadowed samples around a pixel
+// all have penumbra radii under this many pixels: there the 1-spp sample is nearly exact, and a
+// history that the occluder's move displaced lags at least by the error of the motion (mesh_thin: the
+// spider's legs, a pixel or two wide, turn over a still floor). Wider penumbrae keep a history taken
+// where the shadow was (TILED_SHADOW) or where the surface was (SIGMA): their samples are noise that
+// it averages (at 0.6 pixel SIGMA's relMSE ratio on moving_occluder at 64x64 fell from 2.09 to 1.42).
 #define NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA 0.5
 
 // Screen motion (uv, beyond the camera's) of a surface point at pixel 'p' with viewZ 'z'.
@@ -87,14 +88,38 @@ vec2 _NRD_ShadowMotion_OwnMotion(ivec2 p, float z)
     return uvPrev - ((clip.xy / clip.w) * 0.5 + 0.5);
 }
 
-// Pixels the occluder of the shadowed sample at pixel 'p' (viewZ 'z', penumbra radius
-// 'penumbraPixels' in pixels, negative if unknown) moved relative to it since the previous frame;
-// 0 where the light or the occluder is unknown or out of view.
-float _NRD_ShadowMotion_OccluderPixels(ivec2 p, float z, float penumbraPixels)
+// Motion (view space, previous minus current position) of the surface point at pixel 'p' with viewZ
+// 'z' beyond the camera's: its world-space motion vector, or with 2D motion vectors (their depth
+// change unknown) the move parallel to the plane of view-space normal 'Nv' that gives their screen
+// motion beyond the camera's.
+vec3 _NRD_ShadowMotion_OwnMotionView(ivec2 p, float z, vec3 Nv)
 {
+    if (gMotionVectorScale.w != 0.0)
+    {
+        vec3 mv = _NRD_Sanitize(texelFetch(sampler2D(gIn_Mv, gNearestClamp), p, 0).xyz, 0.0);
+        return (mv * gMotionVectorScale.xyz) * mat3(gViewToWorld); // World -> view (transposed rotation).
+    }
+    vec2 uv = _NRD_PixelUv(p);
+    vec3 X = _NRD_ViewPosition(uv, z);
+    vec3 ray = _NRD_ViewPosition(uv + _NRD_ShadowMotion_OwnMotion(p, z), 1.0);
+    float rayN = dot(ray, Nv);
+    if (!(abs(rayN) > NRD_EPS))
+        return vec3(0.0);
+    return ray * (dot(X, Nv) / rayN) - X;
+}
+
+// The occluder of the shadowed sample at pixel 'p' (viewZ 'z', penumbra radius 'penumbraPixels' in
+// pixels, negative if unknown): the pixel 'q' and viewZ 'zq' of the surface seen where it projects,
+// and the direction 'L' towards the light (view space). False where the light or the occluder is
+// unknown or out of view.
+bool _NRD_ShadowMotion_FindOccluder(ivec2 p, float z, float penumbraPixels, out ivec2 q, out float zq, out vec3 L)
+{
+    q = p;
+    zq = z;
+    L = vec3(0.0);
     bool isSphere = gLightPositionView.w > 0.0;
     if (!(penumbraPixels >= 0.0) || (!isSphere && gOccluderLightView.w == 0.0))
-        return 0.0;
+        return false;
     vec3 Xv = _NRD_ViewPosition(_NRD_PixelUv(p), z);
     float penumbra = penumbraPixels * z / gProjectY; // World units at the receiver.
     vec3 toLight;
@@ -102,24 +127,68 @@ float _NRD_ShadowMotion_OccluderPixels(ivec2 p, float z, float penumbraPixels)
     {
         // tan = radius / distance to the light: the occluder lies penumbra / radius of the way there.
         toLight = (gLightPositionView.xyz - Xv) * min(penumbra * gLightPositionView.w, 1.0);
+        L = normalize(gLightPositionView.xyz - Xv);
     }
     else
+    {
         toLight = gOccluderLightView.xyz * (penumbra * gOccluderLightView.w);
+        L = gOccluderLightView.xyz;
+    }
     vec3 Ov = Xv + toLight;
     vec4 clip = gViewToClip * vec4(Ov, 1.0);
     if (!(clip.w > NRD_EPS))
-        return 0.0;
-    ivec2 q = ivec2(floor(((clip.xy / clip.w) * 0.5 + 0.5) * vec2(gResourceSize)));
+        return false;
+    q = ivec2(floor(((clip.xy / clip.w) * 0.5 + 0.5) * vec2(gResourceSize)));
     if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(uvec2(q), gResourceSize)))
-        return 0.0;
-    float zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+        return false;
+    zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
     float zO = Ov.z * gViewZSign;
-    if (_NRD_IsSky(zq))
-        return 0.0;
-    if (zq - zO > NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO)
+    return !_NRD_IsSky(zq) && zq - zO <= NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO;
+}
+
+// Pixels the occluder of the shadowed sample at pixel 'p' moved on screen relative to it since the
+// previous frame (the larger axis); 0 where it is unknown or out of view.
+float _NRD_ShadowMotion_OccluderPixels(ivec2 p, float z, float penumbraPixels)
+{
+    ivec2 q;
+    float zq;
+    vec3 L;
+    if (!_NRD_ShadowMotion_FindOccluder(p, z, penumbraPixels, q, zq, L))
         return 0.0;
     vec2 pixels = abs(_NRD_ShadowMotion_OwnMotion(q, zq) - _NRD_ShadowMotion_OwnMotion(p, z)) * vec2(gResourceSize);
     return min(max(pixels.x, pixels.y), NRD_FP16_MAX);
+}
+
+// Where, on screen, the shadow of the shadowed sample at pixel 'p' (viewZ 'z', view-space normal 'Nv',
+// penumbra radius 'penumbraPixels' in pixels) lay in the previous frame, relative to the sample's
+// surface: 'delta' pixels from it (previous minus current). The occluder's move relative to the
+// surface, projected along the light onto the surface's tangent plane (exact for a translating
+// occluder over a plane; the occluder's own screen motion there would overstate a shadow on a
+// farther surface by the ratio of their depths). False where the occluder is unknown or out of view.
+bool _NRD_ShadowMotion_OccluderDelta(ivec2 p, float z, vec3 Nv, float penumbraPixels, out vec2 delta)
+{
+    delta = vec2(0.0);
+    ivec2 q;
+    float zq;
+    vec3 L;
+    if (!_NRD_ShadowMotion_FindOccluder(p, z, penumbraPixels, q, zq, L))
+        return false;
+    float LN = dot(L, Nv);
+    vec2 d;
+    if (abs(LN) >= NRD_SHADOW_MOTION_GRAZING)
+    {
+        vec3 Xv = _NRD_ViewPosition(_NRD_PixelUv(p), z);
+        vec3 dO = _NRD_ShadowMotion_OwnMotionView(q, zq, Nv) - _NRD_ShadowMotion_OwnMotionView(p, z, Nv);
+        vec4 c0 = gViewToClip * vec4(Xv, 1.0);
+        vec4 c1 = gViewToClip * vec4(Xv + dO - L * (dot(dO, Nv) / LN), 1.0);
+        if (!(c1.w > NRD_EPS))
+            return false;
+        d = (c1.xy / c1.w - c0.xy / c0.w) * 0.5 * vec2(gResourceSize);
+    }
+    else
+        d = (_NRD_ShadowMotion_OwnMotion(q, zq) - _NRD_ShadowMotion_OwnMotion(p, z)) * vec2(gResourceSize);
+    delta = clamp(vec2(_NRD_Sanitize(d.x, 0.0), _NRD_Sanitize(d.y, 0.0)), -NRD_FP16_MAX, NRD_FP16_MAX);
+    return true;
 }
 
 #endif

@@ -90,12 +90,23 @@
 // The other pixels (soft shadows, left to the filter) keep at most a quarter of their penumbra radius
 // of the light's motion in their history.
 #define TS_MOVING_SOFT_RADII 0.25
-// Moving occluders (TS_SHADOW_DATA, ShadowMotion.glsl): the fastest occluder of the shadowed samples
-// of this radius around a pixel (5x5), unless one of them has a penumbra radius of
-// NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA pixels or more; evaluated once per pixel of the group and
-// its border into shared memory (sOccluder). The 3x3 took mesh_thin at 64x64 to 0.77 (relMSE ratio)
-// where the 5x5 takes it to 0.96: the lit pixels a leg's shadow left lie up to 2 pixels from it.
+// Moving occluders (TS_SHADOW_DATA, ShadowMotion.glsl): each shadowed sample of the group and a border
+// of this radius gets, once, into group shared memory, where its shadow lay in the previous frame
+// (_NRD_ShadowMotion_OccluderDelta: its occluder's move relative to the surface, projected along the
+// light onto it). Where one of a pixel's 5x5 moved more than TS_OCCLUDER_MOVED pixels:
+// - a hard shadow (the 5x5's penumbrae all under NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA) keeps as
+//   little history as a moving light's (movedKeep: under a frame, output as sampled). Its history is
+//   not moved: one-pixel shadows of thin fast bars, taken from where the estimate put them, came out
+//   lit (a scene written to break it: FLIP 1.34x -> 1.62x the input's at 64x64);
+// - a soft one takes its history where the 5x5's mean says its shadow was, and keeps as many frames
+//   as hold the uncertainty of that estimate (the 5x5's spread around the mean, plus TS_OCCLUDER_MODEL
+//   of the motion) under TS_OCCLUDER_SOFT_RADII of its widest penumbra radius (softKeep).
+// The 5x5 reaches the lit pixels a leg's shadow left, up to 2 pixels from it (the 3x3 took mesh_thin at
+// 64x64 to 0.77 where the 5x5 took it to 0.96).
 #define TS_OCCLUDER_RADIUS 2
+#define TS_OCCLUDER_MOVED 0.05
+#define TS_OCCLUDER_MODEL 0.1
+#define TS_OCCLUDER_SOFT_RADII 1.0
 // Next to hard shadows that the light's move carried (a finite history kept, see movedKeep), the
 // samples are exact but within a penumbra radius of an edge, which the boosted filter on the short
 // history blurs: a shadowed sample of a hard penumbra (TS_HARD_ARRIVAL_PENUMBRA) and a lit one with
@@ -227,10 +238,12 @@ shared uvec4 sMixed[REGION_TILES_Y];
 shared float sRowSum[SUM_ROWS * GROUP_SIZE];
 shared uint sTileHasSurface[GROUP_TILES_X * GROUP_TILES_Y];
 #if TS_SHADOW_DATA
-// Pixels a moving occluder carried each shadowed sample of the group and a border of
-// TS_OCCLUDER_RADIUS (ShadowMotion.glsl; 0: lit, unknown or still; -1: a penumbra too wide to use it).
+// Where the shadow of each shadowed sample of the group and a border of TS_OCCLUDER_RADIUS lay in the
+// previous frame (pixels from it, _NRD_ShadowMotion_OccluderDelta), and its penumbra radius (pixels;
+// negative: lit, sky, or the occluder unknown).
 #define OCCLUDER_REGION (GROUP_SIZE + 2 * TS_OCCLUDER_RADIUS)
-shared float sOccluder[OCCLUDER_REGION * OCCLUDER_REGION];
+shared vec2 sOccluderDelta[OCCLUDER_REGION * OCCLUDER_REGION];
+shared float sOccluderPenumbra[OCCLUDER_REGION * OCCLUDER_REGION];
 #endif
 
 float MomentWeight(int i)
@@ -488,18 +501,22 @@ void main()
         for (uint entry = threadIndex; entry < OCCLUDER_REGION * OCCLUDER_REGION; entry += GROUP_SIZE * GROUP_SIZE)
         {
             ivec2 q = groupOrigin - TS_OCCLUDER_RADIUS + ivec2(int(entry % OCCLUDER_REGION), int(entry / OCCLUDER_REGION));
-            float motion = 0.0;
+            vec2 delta = vec2(0.0);
+            float penumbra = -1.0;
             if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(uvec2(q), gResourceSize)))
             {
                 float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y;
                 float zq = p >= 0.0 && p < NRD_FP16_MAX * 0.75 ? texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x : 0.0;
                 if (!_NRD_IsSky(zq)) // Shadowed samples of a surface (NaN and lit read as lit).
                 {
-                    float pixels = p * gProjectY;
-                    motion = pixels >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA ? -1.0 : _NRD_ShadowMotion_OccluderPixels(q, zq, pixels);
+                    float pixels = min(p * gProjectY, NRD_FP16_MAX);
+                    vec3 Nq = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_Normal, gNearestClamp), q, 0)).xyz * mat3(gViewToWorld);
+                    if (_NRD_ShadowMotion_OccluderDelta(q, zq, Nq, pixels, delta))
+                        penumbra = pixels;
                 }
             }
-            sOccluder[entry] = motion;
+            sOccluderDelta[entry] = delta;
+            sOccluderPenumbra[entry] = penumbra;
         }
 #endif
     }
@@ -603,21 +620,49 @@ void main()
             else if (perPenumbra > 0.0)
                 softKeep = TS_MOVING_SOFT_RADII / perPenumbra;
         }
-        // Shadows that moving occluders carried (TS_OCCLUDER_RADIUS, sOccluder): a hard shadow keeps as
-        // few frames of history as for a moving light's (below 1: output as sampled).
-        float occluderMotion = 0.0;
-        bool isWideAround = false;
-        for (int j = -TS_OCCLUDER_RADIUS; j <= TS_OCCLUDER_RADIUS; j++)
+        // Shadows that moving occluders carried (TS_OCCLUDER_RADIUS, sOccluderDelta): the history is
+        // taken where the 5x5 says the shadow was ('occluderShift', pixels), and kept as the estimate allows.
+        vec2 occluderShift = vec2(0.0);
         {
-            for (int i = -TS_OCCLUDER_RADIUS; i <= TS_OCCLUDER_RADIUS; i++)
+            float occluderMotion = 0.0, occluderNum = 0.0, occluderWidest = 0.0;
+            for (int j = -TS_OCCLUDER_RADIUS; j <= TS_OCCLUDER_RADIUS; j++)
             {
-                float m = sOccluder[(local.y + TS_OCCLUDER_RADIUS + j) * OCCLUDER_REGION + local.x + TS_OCCLUDER_RADIUS + i];
-                occluderMotion = max(occluderMotion, m);
-                isWideAround = isWideAround || m < 0.0;
+                for (int i = -TS_OCCLUDER_RADIUS; i <= TS_OCCLUDER_RADIUS; i++)
+                {
+                    int e = (local.y + TS_OCCLUDER_RADIUS + j) * OCCLUDER_REGION + local.x + TS_OCCLUDER_RADIUS + i;
+                    float penumbra = sOccluderPenumbra[e];
+                    if (penumbra >= 0.0)
+                    {
+                        vec2 d = sOccluderDelta[e];
+                        occluderShift += d;
+                        occluderNum += 1.0;
+                        occluderWidest = max(occluderWidest, penumbra);
+                        occluderMotion = max(occluderMotion, max(abs(d.x), abs(d.y)));
+                    }
+                }
             }
+            if (occluderMotion > TS_OCCLUDER_MOVED && occluderWidest < NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA)
+                movedKeep = min(movedKeep, _NRD_ShadowMotion_KeptFrames(occluderMotion));
+            if (occluderMotion > TS_OCCLUDER_MOVED && occluderWidest >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA)
+            {
+                occluderShift /= occluderNum;
+                float spread = 0.0;
+                for (int j = -TS_OCCLUDER_RADIUS; j <= TS_OCCLUDER_RADIUS; j++)
+                {
+                    for (int i = -TS_OCCLUDER_RADIUS; i <= TS_OCCLUDER_RADIUS; i++)
+                    {
+                        int e = (local.y + TS_OCCLUDER_RADIUS + j) * OCCLUDER_REGION + local.x + TS_OCCLUDER_RADIUS + i;
+                        vec2 d = abs(sOccluderDelta[e] - occluderShift);
+                        spread = sOccluderPenumbra[e] >= 0.0 ? max(spread, max(d.x, d.y)) : spread;
+                    }
+                }
+                float uncertainty = spread + TS_OCCLUDER_MODEL * length(occluderShift);
+                if (uncertainty > 0.0)
+                    softKeep = min(softKeep, TS_OCCLUDER_SOFT_RADII * occluderWidest / uncertainty);
+            }
+            else
+                occluderShift = vec2(0.0);
         }
-        if (!isWideAround && occluderMotion > 0.0)
-            movedKeep = min(movedKeep, _NRD_ShadowMotion_KeptFrames(occluderMotion));
 #endif
 
         // 2. Disocclusion. Previous clip position of the surface point: the camera motion through
@@ -630,6 +675,9 @@ void main()
         if (gMotionVectorScale.w == 0.0 && (gMotionVectorScale.x != 0.0 || gMotionVectorScale.y != 0.0))
             uvPrev = uv + mv.xy * gMotionVectorScale.xy;
         float viewZPrevExpected = clipPrev.w;
+#if TS_SHADOW_DATA
+        uvPrev += occluderShift * gInvResourceSize; // Where a moving occluder's shadow was.
+#endif
 
         // The depth tolerance grows where the view grazes the surface: by the relative depth change
         // of the surface's tangent plane per pixel (a taps lies up to 1.5 pixels away), at most
@@ -640,6 +688,9 @@ void main()
         float slope = (abs(Nv.x) * 2.0 * gFrustum.x * gInvResourceSize.x + abs(Nv.y) * 2.0 * gFrustum.z * gInvResourceSize.y) /
                       max(abs(dot(Nv, ray)), 1e-6);
         float tolerance = min(gDisocclusionThreshold + 1.5 * slope, gDisocclusionThresholdGrazing) * viewZPrevExpected;
+#if TS_SHADOW_DATA
+        tolerance += slope * length(occluderShift) * viewZPrevExpected; // The surface's depth there.
+#endif
 
         // History: Catmull-Rom over the 4x4 texels around the reprojected position where all of them
         // hold the same surface (repeated bilinear resampling would blur sharp shadows by pixels
@@ -661,7 +712,13 @@ void main()
             vec2 position = uvPrev * vec2(gResourceSize) - 0.5;
             ivec2 origin = ivec2(floor(position));
             vec2 f = position - vec2(origin);
+#if TS_SHADOW_DATA
+            // The camera's resampling (the rules of a moving view), not the shadow's shift.
+            vec2 fc = fract(position - occluderShift);
+            resampling = fc.x * (1.0 - fc.x) + fc.y * (1.0 - fc.y);
+#else
             resampling = f.x * (1.0 - f.x) + f.y * (1.0 - f.y);
+#endif
             nearestK = ivec2(greaterThanEqual(f, vec2(0.5))) + 1;
             // Gather order: (0, 1), (1, 1), (1, 0), (0, 0) from the block's first texel; block b
             // starts at origin - 1 + 2 (b & 1, b >> 1). Gather coordinates are normalized by the
