@@ -195,8 +195,10 @@ struct TiledShadowSettings
     // where both are set). A hard shadow (penumbra radius under a pixel) that the light's move since
     // the previous frame carried keeps at most 1/20 pixel of that motion in its history, and outputs
     // its sample where not a whole frame fits; so does one whose occluder (placed by the light and
-    // the penumbra) is in view and moved, where the penumbrae around are under half a pixel. Zeros:
-    // unknown (nothing changes).
+    // the penumbra) is in view and moved, where the penumbrae around are under half a pixel. A softer
+    // shadow whose occluder moved takes its history where the shadow lay in the previous frame (the
+    // occluder's move projected along the light onto the surface), as long as that estimate holds to
+    // a penumbra radius. Zeros: unknown (nothing changes).
     bool isShadowDataInput = false;
     float lightDirection[3] = {0.0f, 0.0f, 0.0f};
     float tanOfLightAngularRadius = 0.0f;
