@@ -21,6 +21,20 @@ namespace nrd
 // The light as the application describes it every frame: an infinite light (direction, tan of its
 // angular radius) or a sphere light (world-space position, radius; wins where both are set). Zeros:
 // unknown.
+// A world-space direction in view space, normalized (column-major world -> view, as
+// CommonSettings::worldToViewMatrix); .w 1, or all 0 where the direction is zero or not finite.
+inline glsl::vec4 DirectionInViewSpace(const float* worldToView, const float* direction)
+{
+    float v[3];
+    for (int row = 0; row < 3; row++)
+        v[row] = worldToView[0 * 4 + row] * direction[0] + worldToView[1 * 4 + row] * direction[1] +
+                 worldToView[2 * 4 + row] * direction[2];
+    float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(length > 1e-12f) || !std::isfinite(length))
+        return {0.0f, 0.0f, 0.0f, 0.0f};
+    return {v[0] / length, v[1] / length, v[2] / length, 1.0f};
+}
+
 struct ShadowLightDesc
 {
     const float* direction = nullptr; // 3 floats, need not be normalized
@@ -83,13 +97,9 @@ public:
         c.motionPerPenumbra = m_MotionPerPenumbra;
         if (m_HasDirection && light.tanOfAngularRadius > 0.0f)
         {
-            const float* m = worldToView;
-            float v[3];
-            for (int row = 0; row < 3; row++)
-                v[row] = m[0 * 4 + row] * m_Direction[0] + m[1 * 4 + row] * m_Direction[1] + m[2 * 4 + row] * m_Direction[2];
-            float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-            if (length > 1e-12f && std::isfinite(length))
-                c.occluderLightView = {v[0] / length, v[1] / length, v[2] / length, 1.0f / light.tanOfAngularRadius};
+            c.occluderLightView = DirectionInViewSpace(worldToView, m_Direction);
+            if (c.occluderLightView.w != 0.0f)
+                c.occluderLightView.w = 1.0f / light.tanOfAngularRadius;
         }
         if (light.radius > 0.0f && light.position)
         {

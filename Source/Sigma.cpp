@@ -193,7 +193,7 @@ public:
         // History written while stabilization was off is stale.
         if (isStabilized && !m_WasStabilized)
             c.gResetHistory = 1u;
-        c.gLightDirectionView = LightDirectionInViewSpace(frame.common.worldToViewMatrix);
+        c.gLightDirectionView = DirectionInViewSpace(frame.common.worldToViewMatrix, m_Settings.lightDirection);
         c.gBlurRadiusScale = m_Settings.blurRadiusScale * kKernelRadiusPerPenumbraRadius;
         c.gPlaneDistanceSensitivity = m_Settings.planeDistanceSensitivity;
         c.gMaxStabilizedFrameNum = float(m_Settings.maxStabilizedFrameNum);
@@ -222,19 +222,6 @@ private:
         To to;
         std::memcpy(&to, &from, sizeof(To));
         return to;
-    }
-
-    glsl::vec4 LightDirectionInViewSpace(const float* worldToView) const
-    {
-        const float* l = m_Settings.lightDirection;
-        float v[3];
-        for (int row = 0; row < 3; row++)
-            v[row] =
-                worldToView[0 * 4 + row] * l[0] + worldToView[1 * 4 + row] * l[1] + worldToView[2 * 4 + row] * l[2];
-        float length = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        if (!(length > 1e-12f) || !std::isfinite(length))
-            return {0.0f, 0.0f, 0.0f, 0.0f};
-        return {v[0] / length, v[1] / length, v[2] / length, 1.0f};
     }
 
     SigmaSettings m_Settings = {};
