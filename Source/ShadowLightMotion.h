@@ -18,9 +18,6 @@
 namespace nrd
 {
 
-// The light as the application describes it every frame: an infinite light (direction, tan of its
-// angular radius) or a sphere light (world-space position, radius; wins where both are set). Zeros:
-// unknown.
 // A world-space direction in view space, normalized (column-major world -> view, as
 // CommonSettings::worldToViewMatrix); .w 1, or all 0 where the direction is zero or not finite.
 inline glsl::vec4 DirectionInViewSpace(const float* worldToView, const float* direction)
@@ -35,6 +32,9 @@ inline glsl::vec4 DirectionInViewSpace(const float* worldToView, const float* di
     return {v[0] / length, v[1] / length, v[2] / length, 1.0f};
 }
 
+// The light as the application describes it every frame: an infinite light (direction, tan of its
+// angular radius) or a sphere light (world-space position, radius; wins where both are set). Zeros:
+// unknown.
 struct ShadowLightDesc
 {
     const float* direction = nullptr; // 3 floats, need not be normalized
