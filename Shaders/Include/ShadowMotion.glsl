@@ -143,7 +143,51 @@ bool _NRD_ShadowMotion_FindOccluder(ivec2 p, float z, float penumbraPixels, out 
         return false;
     zq = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
     float zO = Ov.z * gViewZSign;
-    return !_NRD_IsSky(zq) && zq - zO <= NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO;
+    // Where the occluder's point projects onto the sample's own pixel (an occluder within a pixel of
+    // the surface: a leg's tip on the floor), that pixel shows the receiver, not the occluder.
+    bool isOwnPixel = all(equal(q, p));
+    if (!isOwnPixel && !_NRD_IsSky(zq) && zq - zO <= NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO)
+        return true;
+    // An occluder thinner than a pixel (or placed a pixel off by the penumbra's rounding) may not
+    // cover the pixel its point projects to: the 3x3 around it, the surface nearest in depth. Around
+    // the sample's own pixel, the surface that moves most relative to it (its neighbours on the
+    // receiver move as it does: a delta of 0, as the receiver itself would give).
+    ivec2 centre = q;
+    float best = NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO;
+    float fastest = -1.0;
+    vec2 ownMotion = isOwnPixel ? _NRD_ShadowMotion_OwnMotion(p, z) : vec2(0.0);
+    bool isFound = false;
+    for (int i = 0; i < 9; i++)
+    {
+        ivec2 t = centre + ivec2(i % 3 - 1, i / 3 - 1);
+        if (i == 4 || any(lessThan(t, ivec2(0))) || any(greaterThanEqual(uvec2(t), gResourceSize)))
+            continue;
+        float zt = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), t, 0).x;
+        if (_NRD_IsSky(zt) || abs(zt - zO) > NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO)
+            continue;
+        bool isBetter;
+        if (isOwnPixel)
+        {
+            vec2 m = (_NRD_ShadowMotion_OwnMotion(t, zt) - ownMotion) * vec2(gResourceSize);
+            float speed = max(abs(m.x), abs(m.y));
+            isBetter = speed > fastest;
+            fastest = isBetter ? speed : fastest;
+        }
+        else
+        {
+            isBetter = abs(zt - zO) <= best;
+            best = isBetter ? abs(zt - zO) : best;
+        }
+        if (isBetter)
+        {
+            q = t;
+            zq = zt;
+            isFound = true;
+        }
+    }
+    if (isOwnPixel && !isFound && !_NRD_IsSky(zq))
+        return true; // The receiver's own pixel: no motion relative to it.
+    return isFound;
 }
 
 // Pixels the occluder of the shadowed sample at pixel 'p' moved on screen relative to it since the

@@ -588,7 +588,7 @@ void main()
         vec3 mv = _NRD_Sanitize(texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, 0.0);
         vec3 Xv = _NRD_ViewPosition(uv, viewZ);
         // Frames of history a hard shadow may keep after the light's move (ShadowMotion.glsl); below
-        // 1 it outputs its sample (at the end), the history going on as before. A soft one's
+        // 1 it outputs its sample (at the end), and its history becomes the sample. A soft one's
         // (TS_MOVING_SOFT_RADII), below 1 none: the filter alone.
         float movedKeep = NRD_FP16_MAX;
         float softKeep = NRD_FP16_MAX;
@@ -865,6 +865,17 @@ void main()
         // 3. Reprojection: running moments of the raw samples (their mean clamped like the history
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
         float previousMean = isSwitchedOn ? nearMean : (clampAmount > 0.0 ? clamp(history.y, boxMin, boxMax) : history.y);
+        // Under a frame of history (a hard shadow that moved: output as sampled, at the end) the
+        // history and the temporal mean become the sample, their length kept: a shadow that moved on
+        // leaves no stale history behind for the frames in which its occluder is no longer found
+        // around the pixel, and the pixel's next samples still read as settled (TS_HARD_ARRIVAL_PENUMBRA:
+        // a one-pixel shadow moving on over them; restarting the length instead took mesh_thin's
+        // relMSE ratio at 64x64 from 1.000 to 0.961).
+        if (movedKeep < 1.0)
+        {
+            previousMean = sample0;
+            clamped = sample0;
+        }
         samples = min(previousSamples + 1.0, mix(gMaxHistoryFrameNum, min(gMaxHistoryFrameNum, TS_CHANGING_HISTORY), clampAmount));
         temporalMean = previousMean + StepToward(sample0 - previousMean, 1.0 / samples);
         // The filter is handed the variance of the temporal estimate (of the mean of n samples), not
