@@ -75,6 +75,11 @@ float _NRD_ShadowMotion_KeptFrames(float motionPixels)
 // where the shadow was (TILED_SHADOW) or where the surface was (SIGMA): their samples are noise that
 // it averages (at 0.6 pixel SIGMA's relMSE ratio on moving_occluder at 64x64 fell from 2.09 to 1.42).
 #define NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA 0.5
+// Under a moving occluder's penumbrae of up to this many pixels around (a soft shadow next to hard
+// ones: a spider's body and legs), a pixel whose own 3x3 holds only hard ones, or whose 3x3 samples
+// all agree, is a hard shadow's: the history where the wider shadow was is not its own (mesh_thin at
+// 128x128: FLIP 1.014x -> 1.006x the input's for TILED_SHADOW, 1.014x -> 1.004x for SIGMA).
+#define NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA 1.0
 
 // Screen motion (uv, beyond the camera's) of a surface point at pixel 'p' with viewZ 'z'.
 vec2 _NRD_ShadowMotion_OwnMotion(ivec2 p, float z)

@@ -83,11 +83,12 @@
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
-shared float s_Penumbra[SMEM_SIZE][SMEM_SIZE]; // pixels; stored only while the light moves
+shared float s_Penumbra[SMEM_SIZE][SMEM_SIZE]; // pixels
 shared float s_OccluderMotion[SMEM_SIZE][SMEM_SIZE]; // pixels a moving occluder carried the shadow (0: none or unknown; -1: too soft to tell)
 // Shadows that moving occluders carry (Shaders/Include/ShadowMotion.glsl): a hard-shadow pixel takes
 // the fastest occluder motion of its neighbourhood of this radius (at most BORDER), unless a shadowed
-// sample there has a penumbra radius of NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA pixels or more.
+// sample there has a penumbra radius of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA pixels or more, or
+// one of its 3x3 NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA or more.
 #define OCCLUDER_MOTION_RADIUS 2
 // Moving-tile test (see MovingTile): over the group's hard-shadow pixels, the expected number of
 // contradictions of a still view (x 1024), the contradictions with a neighbour contradicting the same
@@ -252,14 +253,13 @@ void main()
         float penumbra = SIGMA_UNKNOWN_PENUMBRA;
         if (z != 0.0)
             penumbra = _NRD_Sanitize(texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), p, 0).x, SIGMA_UNKNOWN_PENUMBRA);
-        // Occluder motion where the penumbra is narrow enough to use it (NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA);
+        // Occluder motion where the penumbra is narrow enough to use it (NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA);
         // -1 marks a wider one.
-        float occluder = penumbra >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA ? -1.0 : 0.0;
-        if (z != 0.0 && penumbra >= 0.0 && penumbra < NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA)
+        float occluder = penumbra >= NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA ? -1.0 : 0.0;
+        if (z != 0.0 && penumbra >= 0.0 && penumbra < NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA)
             occluder = _NRD_ShadowMotion_OccluderPixels(p, z, penumbra);
         s_OccluderMotion[smemPos.y][smemPos.x] = occluder;
-        if (isLightMoving)
-            s_Penumbra[smemPos.y][smemPos.x] = penumbra;
+        s_Penumbra[smemPos.y][smemPos.x] = penumbra;
     }
     barrier();
 
@@ -321,7 +321,10 @@ void main()
             {
                 float m = s_OccluderMotion[c.y + j][c.x + i];
                 occluderMotion = max(occluderMotion, m);
-                isWideAround = isWideAround || m < 0.0;
+                // A penumbra of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA or more around, or of
+                // NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA or more in the 3x3.
+                isWideAround = isWideAround || m < 0.0 ||
+                               (abs(i) <= 1 && abs(j) <= 1 && s_Penumbra[c.y + j][c.x + i] >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA);
             }
         }
 

@@ -145,7 +145,10 @@
 // TS_SHADOW_DATA: a shadowed sample whose own penumbra radius (IN_SHADOWDATA) is under this many
 // pixels is exact but within that distance of the shadow's edge (the lab's samples, like most
 // engines', lie on the pixel centre or its jittered position). Such a sample in a still view
-// - under a settled lit texel (TS_SETTLED: every recent sample lit) is output as it is: a hard shadow
+// - under a lit texel whose samples were all lit (TS_SETTLED), at least TS_HARD_ARRIVAL_SAMPLES of
+//   them (not TS_SETTLED_SAMPLES: next to thin shadows that move, the changing neighbourhood keeps
+//   the histories short; a thin bar's shadow arriving on such a texel was output at 0.84-0.92 on a
+//   truth of 0), is output as it is: a hard shadow
 //   arrived, or a pixel whose truth is nearly lit drew a shadowed sample; the first costs about a
 //   hundred times more when mistaken (relMSE of a lit history on a dark truth), and is the common one
 //   where a thin occluder moves (the spider's legs of mesh_thin, 1 to 2 pixels wide, with no
@@ -153,6 +156,7 @@
 // - shadowed again on the next frame restarts like isPersistent's, without its shadowed neighbour.
 // (Measured in Shaders/TiledShadow/README.md, "Hard shadows that arrive".)
 #define TS_HARD_ARRIVAL_PENUMBRA 0.25
+#define TS_HARD_ARRIVAL_SAMPLES 2.0
 // A shadowed sample of a hard penumbra (TS_HARD_ARRIVAL_PENUMBRA, above 0) on a history of fewer
 // than TS_HARD_FRESH_SAMPLES samples, in a still view, is output as it is too: the history cannot yet
 // tell a penumbra from a sharp shadow, and the boosted filter would light the umbrae that a
@@ -592,6 +596,7 @@ void main()
         // (TS_MOVING_SOFT_RADII), below 1 none: the filter alone.
         float movedKeep = NRD_FP16_MAX;
         float softKeep = NRD_FP16_MAX;
+        bool isNarrowAround = false; // A moving occluder's soft shadow around, its penumbrae narrow.
 #if TS_SHADOW_DATA
         if (_NRD_ShadowMotion_IsLightMoving())
         {
@@ -647,6 +652,7 @@ void main()
             {
                 occluderShift /= occluderNum;
                 float spread = 0.0;
+                float nearWidest = -1.0; // The 3x3's widest penumbra.
                 for (int j = -TS_OCCLUDER_RADIUS; j <= TS_OCCLUDER_RADIUS; j++)
                 {
                     for (int i = -TS_OCCLUDER_RADIUS; i <= TS_OCCLUDER_RADIUS; i++)
@@ -654,11 +660,19 @@ void main()
                         int e = (local.y + TS_OCCLUDER_RADIUS + j) * OCCLUDER_REGION + local.x + TS_OCCLUDER_RADIUS + i;
                         vec2 d = abs(sOccluderDelta[e] - occluderShift);
                         spread = sOccluderPenumbra[e] >= 0.0 ? max(spread, max(d.x, d.y)) : spread;
+                        if (abs(i) <= 1 && abs(j) <= 1)
+                            nearWidest = max(nearWidest, sOccluderPenumbra[e]);
                     }
                 }
                 float uncertainty = spread + TS_OCCLUDER_MODEL * length(occluderShift);
                 if (uncertainty > 0.0)
                     softKeep = min(softKeep, TS_OCCLUDER_SOFT_RADII * occluderWidest / uncertainty);
+                // Penumbrae under NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA around: the 3x3's all
+                // hard, the pixel is a hard shadow's (its own samples' shadows, not the wider one
+                // nearby, set it).
+                isNarrowAround = occluderWidest < NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA;
+                if (isNarrowAround && nearWidest < NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA)
+                    movedKeep = 0.0;
             }
             else
                 occluderShift = vec2(0.0);
@@ -706,6 +720,7 @@ void main()
         // sample, in previousBits, is then the settled value).
         uint footprintBits = 0u; // Texels of the 4x4 footprint that hold this surface.
         ivec2 nearestK = ivec2(1);
+        vec3 nearestValue = vec3(0.0); // The nearest texel's history, temporal mean and samples.
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
         {
@@ -765,6 +780,8 @@ void main()
                     vec3 value = _TS_UnpackHistory(histories[i]);
                     cubic += wx[k.x] * wy[k.y] * value.xy;
                     previousBits |= value.z >= TS_SETTLED_SAMPLES && abs(value.y - 0.5) > 0.5 - TS_SETTLED ? 0x10000u << uint(4 * k.y + k.x) : 0u;
+                    if (k == nearestK)
+                        nearestValue = value;
                     if (isInner && (validBits & (1u << uint(4 * k.y + k.x))) != 0u)
                     {
                         vec4 texelValue = vec4(value, innerLocalMean[(k.x - 1) + 2 * (k.y - 1)]);
@@ -810,6 +827,10 @@ void main()
         // (For a shadowed sample, pixels outside the image count as shadowed neighbours: on the
         // border a shadow arriving restarts the history as readily as inside.)
         int shadowedNeighbors = 8 - bitCount(near & NEAR_3X3);
+        // Next to narrow penumbrae that a moving occluder carried, a pixel whose 3x3 samples all
+        // agree with its own lies outside them: its sample is exact (a hard shadow's rule).
+        if (isNarrowAround && ((near ^ (sample0 != 0.0 ? NEAR_5X5 : 0u)) & NEAR_3X3) == 0u)
+            movedKeep = 0.0;
         bool isUnlikely = sample0 == 0.0 && support < TS_CONTRADICTION_WIDE * footprint;
         bool isContradicted =
             isUnlikely && isMoving && support < TS_CONTRADICTION * footprint && shadowedNeighbors >= 1;
@@ -1175,7 +1196,8 @@ void main()
         // TS_HARD_ARRIVAL_PENUMBRA: a hard shadowed sample under the settled lit texel nearest to it.
         int nearest = 4 * nearestK.y + nearestK.x;
         bool isHardArrival = isHardSample && !isDisoccluded && !isMoving && ((footprintBits >> uint(nearest)) & 1u) != 0u &&
-                             ((previousBits >> uint(nearest)) & 0x10001u) == 0x10001u;
+                             ((previousBits >> uint(nearest)) & 1u) != 0u && nearestValue.z >= TS_HARD_ARRIVAL_SAMPLES &&
+                             nearestValue.y > 1.0 - TS_SETTLED;
         if (isHardArrival || (isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
             isLitMovedEdge || movedKeep < 1.0)
             variance = TS_OUTPUT_SAMPLE - sample0;
