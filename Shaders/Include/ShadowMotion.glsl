@@ -153,14 +153,44 @@ bool _NRD_ShadowMotion_FindOccluder(ivec2 p, float z, float penumbraPixels, out 
     bool isOwnPixel = all(equal(q, p));
     if (!isOwnPixel && !_NRD_IsSky(zq) && zq - zO <= NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO)
         return true;
+    // Around the sample's own pixel, the three neighbours toward the light on screen (an occluder lies
+    // between the shadow and the light): the surface that moves most relative to the sample (its
+    // neighbours on the receiver move as it does: a delta of 0, as the receiver itself would give).
+    if (isOwnPixel)
+    {
+        vec2 ownMotion = _NRD_ShadowMotion_OwnMotion(p, z);
+        vec4 c = gViewToClip * vec4(Xv + L * (0.05 * z), 1.0);
+        vec2 toward = c.w > NRD_EPS ? ((c.xy / c.w) * 0.5 + 0.5) * vec2(gResourceSize) - (vec2(p) + 0.5) : vec2(0.0);
+        // The nearest of the 8 directions (45-degree steps, counter-clockwise from +x) and its two
+        // neighbours; all 8 where the light lies along the view.
+        bool isAlongView = !(dot(toward, toward) > 1e-6);
+        int principal = isAlongView ? 0 : int(round(atan(toward.y, toward.x) * (4.0 / 3.14159265))) + 8;
+        float fastest = -1.0;
+        for (int k = isAlongView ? 0 : -1; k <= (isAlongView ? 7 : 1); k++)
+        {
+            int d = (principal + k) & 7;
+            ivec2 t = p + ivec2(d == 0 || d == 1 || d == 7 ? 1 : (d >= 3 && d <= 5 ? -1 : 0),
+                                d >= 1 && d <= 3 ? 1 : (d >= 5 ? -1 : 0));
+            if (any(lessThan(t, ivec2(0))) || any(greaterThanEqual(uvec2(t), gResourceSize)))
+                continue;
+            float zt = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), t, 0).x;
+            if (_NRD_IsSky(zt) || abs(zt - zO) > NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO)
+                continue;
+            vec2 m = (_NRD_ShadowMotion_OwnMotion(t, zt) - ownMotion) * vec2(gResourceSize);
+            float speed = max(abs(m.x), abs(m.y));
+            if (speed > fastest)
+            {
+                fastest = speed;
+                q = t;
+                zq = zt;
+            }
+        }
+        return !_NRD_IsSky(zq); // Else the receiver's own pixel: no motion relative to it.
+    }
     // An occluder thinner than a pixel (or placed a pixel off by the penumbra's rounding) may not
-    // cover the pixel its point projects to: the 3x3 around it, the surface nearest in depth. Around
-    // the sample's own pixel, the surface that moves most relative to it (its neighbours on the
-    // receiver move as it does: a delta of 0, as the receiver itself would give).
+    // cover the pixel its point projects to: the 3x3 around it, the surface nearest in depth.
     ivec2 centre = q;
     float best = NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO;
-    float fastest = -1.0;
-    vec2 ownMotion = isOwnPixel ? _NRD_ShadowMotion_OwnMotion(p, z) : vec2(0.0);
     bool isFound = false;
     for (int i = 0; i < 9; i++)
     {
@@ -168,30 +198,14 @@ bool _NRD_ShadowMotion_FindOccluder(ivec2 p, float z, float penumbraPixels, out 
         if (i == 4 || any(lessThan(t, ivec2(0))) || any(greaterThanEqual(uvec2(t), gResourceSize)))
             continue;
         float zt = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), t, 0).x;
-        if (_NRD_IsSky(zt) || abs(zt - zO) > NRD_SHADOW_MOTION_OCCLUDER_DEPTH * zO)
-            continue;
-        bool isBetter;
-        if (isOwnPixel)
+        if (!_NRD_IsSky(zt) && abs(zt - zO) <= best)
         {
-            vec2 m = (_NRD_ShadowMotion_OwnMotion(t, zt) - ownMotion) * vec2(gResourceSize);
-            float speed = max(abs(m.x), abs(m.y));
-            isBetter = speed > fastest;
-            fastest = isBetter ? speed : fastest;
-        }
-        else
-        {
-            isBetter = abs(zt - zO) <= best;
-            best = isBetter ? abs(zt - zO) : best;
-        }
-        if (isBetter)
-        {
+            best = abs(zt - zO);
             q = t;
             zq = zt;
             isFound = true;
         }
     }
-    if (isOwnPixel && !isFound && !_NRD_IsSky(zq))
-        return true; // The receiver's own pixel: no motion relative to it.
     return isFound;
 }
 

@@ -720,7 +720,7 @@ void main()
         // sample, in previousBits, is then the settled value).
         uint footprintBits = 0u; // Texels of the 4x4 footprint that hold this surface.
         ivec2 nearestK = ivec2(1);
-        vec3 nearestValue = vec3(0.0); // The nearest texel's history, temporal mean and samples.
+        uint youngLitBits = 0u; // Texels of the 4x4 footprint whose (at least TS_HARD_ARRIVAL_SAMPLES) samples were all lit.
         bool isOnScreen = all(greaterThan(uvPrev, vec2(-0.5))) && all(lessThan(uvPrev, vec2(1.5))); // False for NaN.
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
         {
@@ -780,8 +780,7 @@ void main()
                     vec3 value = _TS_UnpackHistory(histories[i]);
                     cubic += wx[k.x] * wy[k.y] * value.xy;
                     previousBits |= value.z >= TS_SETTLED_SAMPLES && abs(value.y - 0.5) > 0.5 - TS_SETTLED ? 0x10000u << uint(4 * k.y + k.x) : 0u;
-                    if (k == nearestK)
-                        nearestValue = value;
+                    youngLitBits |= value.z >= TS_HARD_ARRIVAL_SAMPLES && value.y > 1.0 - TS_SETTLED ? 1u << uint(4 * k.y + k.x) : 0u;
                     if (isInner && (validBits & (1u << uint(4 * k.y + k.x))) != 0u)
                     {
                         vec4 texelValue = vec4(value, innerLocalMean[(k.x - 1) + 2 * (k.y - 1)]);
@@ -1196,8 +1195,7 @@ void main()
         // TS_HARD_ARRIVAL_PENUMBRA: a hard shadowed sample under the settled lit texel nearest to it.
         int nearest = 4 * nearestK.y + nearestK.x;
         bool isHardArrival = isHardSample && !isDisoccluded && !isMoving && ((footprintBits >> uint(nearest)) & 1u) != 0u &&
-                             ((previousBits >> uint(nearest)) & 1u) != 0u && nearestValue.z >= TS_HARD_ARRIVAL_SAMPLES &&
-                             nearestValue.y > 1.0 - TS_SETTLED;
+                             ((previousBits & youngLitBits) >> uint(nearest) & 1u) != 0u;
         if (isHardArrival || (isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
             isLitMovedEdge || movedKeep < 1.0)
             variance = TS_OUTPUT_SAMPLE - sample0;
