@@ -94,8 +94,8 @@ struct SigmaSettings
     // these at 0 unless they all move together.
     // The same light also places each shadow's occluder (toward the light, at the distance its
     // penumbra gives): where the occluder is in view and its motion vector says it moved, a hard
-    // shadow under half a pixel soft keeps as little history as a moving light's (an animated
-    // object's shadow on a still floor).
+    // shadow keeps as little history as a moving light's (an animated object's shadow on a still
+    // floor), where the penumbrae around are under a pixel and those next to it under half a pixel.
     float tanOfLightAngularRadius = 0.0f;
     float lightPosition[3] = {0.0f, 0.0f, 0.0f};
     float lightRadius = 0.0f;
@@ -195,10 +195,11 @@ struct TiledShadowSettings
     // where both are set). A hard shadow (penumbra radius under a pixel) that the light's move since
     // the previous frame carried keeps at most 1/20 pixel of that motion in its history, and outputs
     // its sample where not a whole frame fits; so does one whose occluder (placed by the light and
-    // the penumbra) is in view and moved, where the penumbrae around are under half a pixel. A softer
-    // shadow whose occluder moved takes its history where the shadow lay in the previous frame (the
-    // occluder's move projected along the light onto the surface), as long as that estimate holds to
-    // a penumbra radius. Zeros: unknown (nothing changes).
+    // the penumbra) is in view and moved, where the penumbrae around are under half a pixel, or under
+    // a pixel with those next to it under half a pixel. A softer shadow whose occluder moved takes its
+    // history where the shadow lay in the previous frame (the occluder's move projected along the
+    // light onto the surface), as long as that estimate holds to a penumbra radius. Zeros: unknown
+    // (nothing changes).
     bool isShadowDataInput = false;
     float lightDirection[3] = {0.0f, 0.0f, 0.0f};
     float tanOfLightAngularRadius = 0.0f;

@@ -100,7 +100,9 @@
 //   lit (a scene written to break it: FLIP 1.34x -> 1.62x the input's at 64x64);
 // - a soft one takes its history where the 5x5's mean says its shadow was, and keeps as many frames
 //   as hold the uncertainty of that estimate (the 5x5's spread around the mean, plus TS_OCCLUDER_MODEL
-//   of the motion) under TS_OCCLUDER_SOFT_RADII of its widest penumbra radius (softKeep).
+//   of the motion) under TS_OCCLUDER_SOFT_RADII of its widest penumbra radius (softKeep); but where
+//   the 5x5's penumbrae are all under NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA, a pixel whose 3x3
+//   holds only hard ones, or whose 3x3 samples agree, is a hard shadow's (isNarrowAround).
 // The 5x5 reaches the lit pixels a leg's shadow left, up to 2 pixels from it (the 3x3 took mesh_thin at
 // 64x64 to 0.77 where the 5x5 took it to 0.96).
 #define TS_OCCLUDER_RADIUS 2
