@@ -43,11 +43,11 @@ const Shortfall kShortfalls[] = {
     {"mesh_thin", "SIGMA_SHADOW", 64, 0.90, 1.10}, // ratio 1.000 (oracle 0.86), FLIP 0.01693 -> 0.01693, 1.0001x (lavapipe)
     {"mesh_thin", "SIGMA_SHADOW", 128, 0.92, 1.11}, // ratio 1.029 (oracle 0.90), FLIP 0.01687 -> 0.01693, 1.0037x (lavapipe)
     {"mesh_engine", "TILED_SHADOW", 64, 1.05, 1.11}, // ratio 1.176 (oracle 1.23), FLIP 0.00560 -> 0.00561 (lavapipe)
-    {"mesh_thin", "TILED_SHADOW", 64, 0.90, 1.10}, // ratio 1.000 (oracle 0.86), FLIP 0.01693 -> 0.01694, 1.0005x (lavapipe)
-    {"mesh_thin", "TILED_SHADOW", 128, 1.00, 1.11}, // ratio 1.119 (oracle 0.90), FLIP 0.01687 -> 0.01698, 1.0066x (lavapipe)
+    {"mesh_thin", "TILED_SHADOW", 64, 0.90, 1.10}, // ratio 1.000 (oracle 0.86), FLIP 0.01693 -> 0.01694, 1.0006x (lavapipe)
+    {"mesh_thin", "TILED_SHADOW", 128, 1.00, 1.11}, // ratio 1.118 (oracle 0.90), FLIP 0.01687 -> 0.01696, 1.0054x (lavapipe)
     {"camera_translation", "SIGMA_SHADOW", 256, 1.70, 1.00}, // ratio 1.892 (oracle 4.00), FLIP 0.0048 -> 0.0045 (lavapipe)
     {"fast_orbit", "SIGMA_SHADOW", 256, 1.51, 1.00}, // ratio 1.679 (oracle 3.67), FLIP 0.0052 -> 0.0049 (lavapipe)
-    {"mesh_thin", "TILED_SHADOW", 256, 1.61, 1.10}, // ratio 1.795 (oracle 0.87), FLIP 0.01525 -> 0.01526, 1.0003x (lavapipe)
+    {"mesh_thin", "TILED_SHADOW", 256, 1.61, 1.10}, // ratio 1.794 (oracle 0.87), FLIP 0.01525 -> 0.01526, 1.0003x (lavapipe)
 };
 // clang-format on
 
@@ -134,6 +134,53 @@ TEST_CASE("SIGMA_SHADOW follows shadows that a moving occluder carries once told
     CHECK(flipRatio[1] <= 1.01);
     CHECK(flipRatio[0] >= 1.2);
     CHECK(relmseRatio[1] >= 0.95);
+}
+
+// Two bars 3-4 cm thick sweep 0.3-0.5 m above a floor under a 0.25-degree sun (written to break the
+// occluder lookup of Shaders/Include/ShadowMotion.glsl: the bars are thinner than a pixel, their
+// tips' shadows one pixel). TILED_SHADOW does no harm at either size (lavapipe: relMSE ratio 1.045 /
+// FLIP 0.965x at 64x64, the input exactly at 128x128; before the 3x3 search and the young lit texels
+// 0.238 / 1.336x and 0.332 / 1.314x); SIGMA_SHADOW at 64x64 (1.045 / 0.893x), and at 128x128 it stays
+// within 0.1% of the input's FLIP (1.0009x: pinned, not yet the bar).
+TEST_CASE("Shadow denoisers follow thin bars' shadows sweeping over a floor", "[quality]")
+{
+    const char* scene = R"({"name": "thin_bars_sweep", "frames": 48, "seed": 1,
+        "sky": {"zenith": [0.25, 0.42, 0.8], "horizon": [0.75, 0.82, 0.95], "ground": [0.3, 0.28, 0.25]},
+        "camera": {"position": [0.0, 2.4, 5.6], "target": [0.0, 0.5, 0.0], "fov": 45, "near": 0.05},
+        "materials": {"floor": {"albedo": [0.7, 0.68, 0.65], "roughness": 0.8}, "white": {"albedo": 0.85, "roughness": 1.0}},
+        "objects": [
+            {"name": "floor", "type": "plane", "material": "floor"},
+            {"name": "bar1", "type": "box", "size": [0.04, 0.04, 2.0], "position": [-2, 0.3, 0], "material": "white",
+             "keyframes": [{"frame": 0, "position": [-2.0, 0.3, 0.0]}, {"frame": 47, "position": [2.0, 0.3, 0.0]}]},
+            {"name": "bar2", "type": "box", "size": [2.0, 0.03, 0.03], "position": [0, 0.5, -1.5], "material": "white",
+             "keyframes": [{"frame": 0, "position": [0.0, 0.5, -1.5], "rotation": [0, 0, 0]},
+                           {"frame": 47, "position": [0.0, 0.5, 1.5], "rotation": [0, 90, 0]}]},
+            {"name": "cube", "type": "box", "size": [0.6, 0.6, 0.6], "position": [1.2, 0.3, -0.8], "material": "white"}],
+        "lights": [{"name": "sun", "type": "sun", "direction": [-0.4, 0.8, 0.3], "angularRadius": 0.25, "intensity": [3, 2.9, 2.7]}]})";
+    for (const char* method : {"SIGMA_SHADOW", "TILED_SHADOW"})
+    {
+        for (uint32_t size : {64u, 128u})
+        {
+            nrdlab::RunOptions o;
+            o.scene = scene;
+            o.method = method;
+            o.width = o.height = size;
+            o.frames = 24;
+            o.warmup = 8;
+            o.truthSpp = 32;
+            o.keepImages = false;
+            nrdlab::RunReport r;
+            std::string error;
+            REQUIRE(nrdlab::RunMethod(o, r, error));
+            double ratio = r.mean.relmseNoisy / std::max(r.mean.relmseDenoised, 1e-12);
+            double flipRatio = r.mean.flipDenoised / r.mean.flipNoisy;
+            std::printf("%s thin bars %ux%u: relMSE ratio %.4f, FLIP %.5f -> %.5f (%.4fx)\n", method, size, size, ratio,
+                        r.mean.flipNoisy, r.mean.flipDenoised, flipRatio);
+            bool isPinned = std::string(method) == "SIGMA_SHADOW" && size == 128;
+            CHECK(ratio >= 1.0 - kRounding);
+            CHECK(flipRatio <= (isPinned ? 1.002 : 1.0 + kRounding));
+        }
+    }
 }
 
 // One test case per size and built-in scene ("shadow denoisers do no harm on <scene> at <n>x<n>"),

@@ -159,6 +159,8 @@
 // (Measured in Shaders/TiledShadow/README.md, "Hard shadows that arrive".)
 #define TS_HARD_ARRIVAL_PENUMBRA 0.25
 #define TS_HARD_ARRIVAL_SAMPLES 2.0
+// Samples' worth of the history that a hard shadow output as sampled keeps (its sample), see movedKeep.
+#define TS_MOVED_HARD_SAMPLES 4.0
 // A shadowed sample of a hard penumbra (TS_HARD_ARRIVAL_PENUMBRA, above 0) on a history of fewer
 // than TS_HARD_FRESH_SAMPLES samples, in a still view, is output as it is too: the history cannot yet
 // tell a penumbra from a sharp shadow, and the boosted filter would light the umbrae that a
@@ -888,15 +890,18 @@ void main()
         // where the neighbourhood changed), variance of a 0/1 sample from the mean.
         float previousMean = isSwitchedOn ? nearMean : (clampAmount > 0.0 ? clamp(history.y, boxMin, boxMax) : history.y);
         // Under a frame of history (a hard shadow that moved: output as sampled, at the end) the
-        // history and the temporal mean become the sample, their length kept: a shadow that moved on
-        // leaves no stale history behind for the frames in which its occluder is no longer found
-        // around the pixel, and the pixel's next samples still read as settled (TS_HARD_ARRIVAL_PENUMBRA:
-        // a one-pixel shadow moving on over them; restarting the length instead took mesh_thin's
-        // relMSE ratio at 64x64 from 1.000 to 0.961).
+        // history and the temporal mean become the sample, worth at most TS_MOVED_HARD_SAMPLES: a
+        // shadow that moved on leaves no stale history behind for the frames in which its occluder is
+        // no longer found around the pixel, the pixel's next samples still read as settled
+        // (TS_HARD_ARRIVAL_SAMPLES: a one-pixel shadow moving on over them; restarting the length
+        // instead took mesh_thin's relMSE ratio at 64x64 from 1.000 to 0.961), and a shadow that lay
+        // there for one frame fades within a few (a thin bar's tip: kept at full length, its pixel
+        // read 0.05 on the next frame, lit, truth 1).
         if (movedKeep < 1.0)
         {
             previousMean = sample0;
             clamped = sample0;
+            previousSamples = min(previousSamples, TS_MOVED_HARD_SAMPLES);
         }
         samples = min(previousSamples + 1.0, mix(gMaxHistoryFrameNum, min(gMaxHistoryFrameNum, TS_CHANGING_HISTORY), clampAmount));
         temporalMean = previousMean + StepToward(sample0 - previousMean, 1.0 / samples);
