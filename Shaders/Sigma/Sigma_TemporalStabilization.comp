@@ -90,6 +90,11 @@ shared float s_OccluderMotion[SMEM_SIZE][SMEM_SIZE]; // pixels a moving occluder
 // sample there has a penumbra radius of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA pixels or more, or
 // one of its 3x3 NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA or more.
 #define OCCLUDER_MOTION_RADIUS 2
+// A soft pixel (not a hard shadow) whose 5x5 holds penumbrae of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA
+// or more keeps at most this many of their widest radius of their fastest occluder's motion in its
+// history (its history is where the surface was: a leg's shadow a few pixels soft at 960x540 trailed
+// it, mesh_thin FLIP 1.05x the input's; at 1.0 radius 0.98x, at 0.5 0.93x).
+#define OCCLUDER_SOFT_RADII 0.5
 // Moving-tile test (see MovingTile): over the group's hard-shadow pixels, the expected number of
 // contradictions of a still view (x 1024), the contradictions with a neighbour contradicting the same
 // way (departures: lit under dark history; arrivals: dark under lit), and how many of the pixels were
@@ -254,10 +259,12 @@ void main()
         if (z != 0.0)
             penumbra = _NRD_Sanitize(texelFetch(sampler2D(gIn_Penumbra, gNearestClamp), p, 0).x, SIGMA_UNKNOWN_PENUMBRA);
         // Occluder motion where the penumbra is narrow enough to use it (NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA);
-        // -1 marks a wider one.
+        // a wider one holds -1 minus its occluder's motion (OCCLUDER_SOFT_RADII).
         float occluder = penumbra >= NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA ? -1.0 : 0.0;
         if (z != 0.0 && penumbra >= 0.0 && penumbra < NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA)
             occluder = _NRD_ShadowMotion_OccluderPixels(p, z, penumbra);
+        else if (z != 0.0 && penumbra >= NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA && penumbra < NRD_FP16_MAX * 0.75)
+            occluder = -1.0 - min(_NRD_ShadowMotion_OccluderPixels(p, z, penumbra), NRD_FP16_MAX * 0.5); // -1 - its motion.
         s_OccluderMotion[smemPos.y][smemPos.x] = occluder;
         s_Penumbra[smemPos.y][smemPos.x] = penumbra;
     }
@@ -288,6 +295,7 @@ void main()
     float kernelRadius = 0.0;
     float occluderMotion = 0.0; // Pixels moving occluders carried the shadows around this frame.
     bool isWideAround = false; // A penumbra too wide for them lies around.
+    float softMotion = 0.0, softWidest = 0.0; // The fastest occluder of the wider penumbrae around, their widest.
     float shadowMotion = 0.0; // Pixels the light's move carried the shadow this frame (ShadowMotion.glsl).
     float expectedViewZ = 0.0; // The surface's viewZ in the previous frame, and the disocclusion test's tolerance.
     float tolerance = 0.0;
@@ -321,6 +329,11 @@ void main()
             {
                 float m = s_OccluderMotion[c.y + j][c.x + i];
                 occluderMotion = max(occluderMotion, m);
+                if (m < 0.0)
+                {
+                    softMotion = max(softMotion, -1.0 - m);
+                    softWidest = max(softWidest, s_Penumbra[c.y + j][c.x + i]);
+                }
                 // A penumbra of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA or more around, or of
                 // NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA or more in the 3x3.
                 isWideAround = isWideAround || m < 0.0 ||
@@ -653,6 +666,11 @@ void main()
                 historyLength = min(historyLength, keep);
         }
 
+        // A soft shadow that a moving occluder carried (OCCLUDER_SOFT_RADII): its history is where the
+        // surface was, so it keeps no more frames than hold that fraction of its widest penumbra radius
+        // of the motion.
+        if (!isHardShadow && softMotion > 0.0)
+            historyLength = min(historyLength, OCCLUDER_SOFT_RADII * softWidest / softMotion);
         // (At least one fp16 step: a pixel whose samples stay the same reaches them exactly.)
         result = _NRD_Fp16Converge(mix(current, clamped, historyLength / (historyLength + 1.0)), clamped, current);
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
