@@ -62,6 +62,20 @@ const Shortfall* FindShortfall(const std::string& scene, const char* method, uin
     return nullptr;
 }
 
+// The issue's settings: 24 frames, the first 8 a warm-up, the truth at 32 samples per pixel.
+nrdlab::RunOptions IssueRunOptions(const std::string& scene, const char* method, uint32_t size)
+{
+    nrdlab::RunOptions o;
+    o.scene = scene;
+    o.method = method;
+    o.width = o.height = size;
+    o.frames = 24;
+    o.warmup = 8;
+    o.truthSpp = 32;
+    o.keepImages = false;
+    return o;
+}
+
 void CheckDoNoHarm(const std::string& name, uint32_t size)
 {
     nrdlab::Scene scene;
@@ -70,14 +84,7 @@ void CheckDoNoHarm(const std::string& name, uint32_t size)
     bool moving = nrdlab::IsSceneAnimated(scene); // Still scenes have no oracle bar.
     for (const char* method : {"SIGMA_SHADOW", "TILED_SHADOW"})
     {
-        nrdlab::RunOptions o;
-        o.scene = name;
-        o.method = method;
-        o.width = o.height = size;
-        o.frames = 24;
-        o.warmup = 8;
-        o.truthSpp = 32;
-        o.keepImages = false;
+        nrdlab::RunOptions o = IssueRunOptions(name, method, size);
         o.bounds = moving;
         nrdlab::RunReport r;
         INFO(name << " " << method << " " << size << "x" << size);
@@ -114,14 +121,7 @@ TEST_CASE("SIGMA_SHADOW follows shadows that a moving occluder carries once told
     double flipRatio[2] = {}, relmseRatio[2] = {};
     for (int isGiven = 0; isGiven < 2; isGiven++)
     {
-        nrdlab::RunOptions o;
-        o.scene = "mesh_thin";
-        o.method = "SIGMA_SHADOW";
-        o.width = o.height = 64;
-        o.frames = 24;
-        o.warmup = 8;
-        o.truthSpp = 32;
-        o.keepImages = false;
+        nrdlab::RunOptions o = IssueRunOptions("mesh_thin", "SIGMA_SHADOW", 64);
         o.settingsJson = isGiven ? "{}" : "{\"sigma\": {\"isLightSizeGiven\": false}}";
         nrdlab::RunReport r;
         std::string error;
@@ -161,14 +161,7 @@ TEST_CASE("Shadow denoisers follow thin bars' shadows sweeping over a floor", "[
     {
         for (uint32_t size : {64u, 128u})
         {
-            nrdlab::RunOptions o;
-            o.scene = scene;
-            o.method = method;
-            o.width = o.height = size;
-            o.frames = 24;
-            o.warmup = 8;
-            o.truthSpp = 32;
-            o.keepImages = false;
+            nrdlab::RunOptions o = IssueRunOptions(scene, method, size);
             nrdlab::RunReport r;
             std::string error;
             REQUIRE(nrdlab::RunMethod(o, r, error));
