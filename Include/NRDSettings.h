@@ -96,6 +96,9 @@ struct SigmaSettings
     // penumbra gives): where the occluder is in view and its motion vector says it moved, a hard
     // shadow keeps as little history as a moving light's (an animated object's shadow on a still
     // floor), where the penumbrae around are under a pixel and those next to it under half a pixel.
+    // And it marks the light's terminator (less than half of the light's disk above the surface's
+    // tangent plane, by IN_NORMAL_ROUGHNESS): there a lit hard-shadow sample under camera motion takes
+    // the running mean of its samples (a sphere's self-shadow edge, whose penumbra estimate is 0).
     float tanOfLightAngularRadius = 0.0f;
     float lightPosition[3] = {0.0f, 0.0f, 0.0f};
     float lightRadius = 0.0f;

@@ -42,6 +42,16 @@ vec4 _NRD_Fp16Converge(vec4 x, vec4 history, vec4 target)
                 _NRD_Fp16Converge(x.z, history.z, target.z), _NRD_Fp16Converge(x.w, history.w, target.w));
 }
 
+// Fraction of a disk's area on the far side of a chord, the chord at signed distance 'x' (in radii)
+// from the centre on the near side (x <= -1: none of it; 0: half; >= 1: all). A light's disk cut by a
+// surface's tangent plane: x = cos(angle between the normal and the light's direction) / sin(the
+// light's angular radius) gives the part of the disk above the plane.
+float _NRD_DiskFractionBeyondChord(float x)
+{
+    x = isnan(x) ? 0.0 : clamp(x, -1.0, 1.0); // +-Inf: all or none.
+    return clamp(0.5 + (x * sqrt(1.0 - x * x) + asin(x)) * (1.0 / NRD_PI), 0.0, 1.0);
+}
+
 // Largest value that survives RGBA16f storage; use before writing history in fp16 formats.
 vec4 _NRD_ClampToHalf(vec4 v) { return clamp(v, vec4(-NRD_FP16_MAX), vec4(NRD_FP16_MAX)); }
 

@@ -254,4 +254,33 @@ bool _NRD_ShadowMotion_OccluderDelta(ivec2 p, float z, vec3 Nv, float penumbraPi
     return true;
 }
 
+// The fraction of the light's disk above the receiver's tangent plane (view-space normal 'Nv',
+// position 'Xv'): 1 where the surface faces the light by more than its angular radius, 0 where it
+// faces away by more, in between on the light's terminator, where the surface itself hides part of
+// the light (a sphere's or a cylinder's self-shadow edge; the self-occlusion's hit lies next to the
+// sample and its penumbra estimate is 0, yet the visibility is fractional). -1 where the light's size
+// is unknown.
+float _NRD_ShadowMotion_HorizonVisibility(vec3 Xv, vec3 Nv)
+{
+    vec3 L;
+    float sine;
+    if (gLightPositionView.w > 0.0)
+    {
+        vec3 toLight = gLightPositionView.xyz - Xv;
+        float distance = length(toLight);
+        if (!(distance > NRD_EPS))
+            return -1.0;
+        L = toLight / distance;
+        sine = min(1.0 / (gLightPositionView.w * distance), 1.0);
+    }
+    else if (gOccluderLightView.w > 0.0)
+    {
+        L = gOccluderLightView.xyz;
+        sine = inversesqrt(1.0 + gOccluderLightView.w * gOccluderLightView.w);
+    }
+    else
+        return -1.0;
+    return _NRD_DiskFractionBeyondChord(dot(L, Nv) / sine);
+}
+
 #endif
