@@ -201,7 +201,9 @@ struct TiledShadowSettings
     // the penumbra) is in view and moved, where the penumbrae around are under half a pixel, or under
     // a pixel with those next to it under half a pixel. A softer shadow whose occluder moved takes its
     // history where the shadow lay in the previous frame (the occluder's move projected along the
-    // light onto the surface), as long as that estimate holds to a penumbra radius. Zeros: unknown
+    // light onto the surface), as long as that estimate holds to a penumbra radius. A soft shadow
+    // (penumbrae around under a pixel) that the light's move leaves under a frame of history outputs
+    // the plus-shaped mean of its samples instead of the a-trous passes' wider blur. Zeros: unknown
     // (nothing changes).
     bool isShadowDataInput = false;
     float lightDirection[3] = {0.0f, 0.0f, 0.0f};
