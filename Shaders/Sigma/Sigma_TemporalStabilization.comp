@@ -93,7 +93,9 @@ shared float s_OccluderMotion[SMEM_SIZE][SMEM_SIZE]; // pixels a moving occluder
 // A soft pixel (not a hard shadow) whose 5x5 holds penumbrae of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA
 // or more keeps at most this many of their widest radius of their fastest occluder's motion in its
 // history (its history is where the surface was: a leg's shadow a few pixels soft at 960x540 trailed
-// it, mesh_thin FLIP 1.05x the input's; at 1.0 radius 0.98x, at 0.5 0.93x).
+// it, mesh_thin FLIP 1.05x the input's; at 1.0 radius 0.98x, at 0.5 0.93x). So does a hard pixel whose
+// 3x3 holds penumbrae of NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA or more, none wider than
+// NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA around (see main).
 #define OCCLUDER_SOFT_RADII 0.5
 // Moving-tile test (see MovingTile): over the group's hard-shadow pixels, the expected number of
 // contradictions of a still view (x 1024), the contradictions with a neighbour contradicting the same
@@ -295,6 +297,8 @@ void main()
     float kernelRadius = 0.0;
     float occluderMotion = 0.0; // Pixels moving occluders carried the shadows around this frame.
     bool isWideAround = false; // A penumbra too wide for them lies around.
+    bool isSoftAround = false; // A penumbra of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA or more lies around.
+    float nearWidest = 0.0; // The 3x3's widest penumbra radius (pixels).
     float softMotion = 0.0, softWidest = 0.0; // The fastest occluder of the wider penumbrae around, their widest.
     float shadowMotion = 0.0; // Pixels the light's move carried the shadow this frame (ShadowMotion.glsl).
     bool isDarkTerminator = false; // On the dark half of the light's terminator (see isResampledHard).
@@ -337,6 +341,9 @@ void main()
                 }
                 // A penumbra of NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA or more around, or of
                 // NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA or more in the 3x3.
+                isSoftAround = isSoftAround || m < 0.0;
+                if (abs(i) <= 1 && abs(j) <= 1 && s_Penumbra[c.y + j][c.x + i] < NRD_FP16_MAX * 0.75)
+                    nearWidest = max(nearWidest, s_Penumbra[c.y + j][c.x + i]);
                 isWideAround = isWideAround || m < 0.0 ||
                                (abs(i) <= 1 && abs(j) <= 1 && s_Penumbra[c.y + j][c.x + i] >= NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA);
             }
@@ -678,6 +685,13 @@ void main()
         // of the motion.
         if (!isHardShadow && softMotion > 0.0)
             historyLength = min(historyLength, OCCLUDER_SOFT_RADII * softWidest / softMotion);
+        // So does a hard shadow whose 3x3 holds penumbrae of NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA to
+        // NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA (too wide for the hard shadows' rule above) with none
+        // wider around: their widest radius, and the fastest occluder of the 5x5 (mesh_thin's legs at
+        // 128x128 and 192x144, 0.5-0.6 pixel soft, trailed them for the five frames of the history:
+        // FLIP 1.004x and 1.020x the input's).
+        if (isHardShadow && isWideAround && !isSoftAround && occluderMotion > 0.0)
+            historyLength = min(historyLength, OCCLUDER_SOFT_RADII * nearWidest / occluderMotion);
         // (At least one fp16 step: a pixel whose samples stay the same reaches them exactly.)
         result = _NRD_Fp16Converge(mix(current, clamped, historyLength / (historyLength + 1.0)), clamped, current);
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
