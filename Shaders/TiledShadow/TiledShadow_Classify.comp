@@ -90,14 +90,14 @@
 // The other pixels (soft shadows, left to the filter) keep at most a quarter of their penumbra radius
 // of the light's motion in their history.
 #define TS_MOVING_SOFT_RADII 0.25
-// Where that is under a frame (the light moves more than 4 penumbra radii a frame) and the 3x3's
-// penumbra radii are under TS_MOVING_NARROW_PENUMBRA pixels, the output is the samples' plus-shaped
-// mean (the pixel's sample twice, its four edge neighbours once: a reach of a pixel, as wide as the
-// penumbra), kept by the a-trous passes. Their reach, 7 pixels on one frame's samples with the
-// variance boosted for a short history, smeared venetian_blinds' stripes, moved by a turning sun,
-// into grey at 960x540 (FLIP 1.35x the input's; 0.96x with the plus mean). Wider penumbrae keep the
-// filter: up to 2 pixels the moving lamps' relMSE ratios fell by a fifth at 128x128 (moving_light
-// 2.74 -> 2.19), and without the boost by half.
+// Where that is under a frame (the light moves the shadows by more than a quarter of a penumbra radius
+// a frame) and the 3x3's penumbra radii are under TS_MOVING_NARROW_PENUMBRA pixels, the output is the
+// samples' plus-shaped mean (the pixel's sample twice, its four edge neighbours once: a reach of a
+// pixel, as wide as the penumbra), kept by the a-trous passes. Their reach, 7 pixels on one frame's
+// samples with the variance boosted for a short history, smeared venetian_blinds' stripes, moved by
+// a turning sun, into grey at 960x540 (FLIP 1.35x the input's; 0.96x with the plus mean). Wider
+// penumbrae keep the filter: up to 2 pixels the moving lamps' relMSE ratios fell by a fifth at
+// 128x128 (moving_light 2.74 -> 2.19), and without the boost by half.
 #define TS_MOVING_NARROW_PENUMBRA 1.0
 // Moving occluders (TS_SHADOW_DATA, ShadowMotion.glsl): each shadowed sample of the group and a border
 // of this radius gets, once, into group shared memory, where its shadow lay in the previous frame
