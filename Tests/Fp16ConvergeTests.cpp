@@ -4,6 +4,7 @@
 // blend is returned as it is; a history blended towards a constant fp16 target frame after frame
 // then reaches it exactly, where storing the blend as it is can leave it short (the case of SIGMA's
 // temporal stabilization: a lit pixel's history of 1 - 2^-11 under a weight of 5/6 stays there).
+// _NRD_NearestFp16 (the shadow denoisers' outputs) rounds to the nearest fp16 value.
 #include <catch2/catch.hpp>
 
 #include "VulkanTestUtils.h"
@@ -24,7 +25,7 @@ namespace
 namespace
 {
 
-constexpr uint32_t kCaseFloats = 4, kResultFloats = 4;
+constexpr uint32_t kCaseFloats = 4, kResultFloats = 5;
 
 struct Case
 {
@@ -117,5 +118,47 @@ TEST_CASE("An fp16 history blended towards a constant target reaches it exactly 
     // Stored as blended, some histories stop short of the target (the test above would fail without the helper).
     INFO("histories short of their target without _NRD_Fp16Converge: " << shortWithout << " of " << cases.size());
     CHECK(shortWithout > 0);
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
+TEST_CASE("_NRD_NearestFp16 gives the fp16 value nearest to its argument", "[vulkan]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    std::vector<Case> cases;
+    std::vector<float> expected;
+    auto add = [&](float x, float nearest)
+    {
+        cases.push_back({x, 0.0f, 0.0f, 0.0f});
+        expected.push_back(nearest);
+    };
+    // Between fp16 neighbours, in several binades (1 - 2^-11 and 1 straddle a power of two): a fifth,
+    // two fifths, three fifths and nine tenths of the way up, and the ends themselves; negated too.
+    for (float h : {StepDown(1.0f), 0.5f, 0.25f, 0.333251953125f, 0.75f, StepDown(0.5f), 1.5f})
+    {
+        float up = StepUp(h);
+        for (float sign : {1.0f, -1.0f})
+        {
+            add(sign * (h + 0.2f * (up - h)), sign * h);
+            add(sign * (h + 0.4f * (up - h)), sign * h);
+            add(sign * (h + 0.6f * (up - h)), sign * up);
+            add(sign * (h + 0.9f * (up - h)), sign * up);
+            add(sign * h, sign * h);
+            add(sign * up, sign * up);
+        }
+    }
+    // A filter's lit pixel a few fp32 ulps under 1, and 0 and tiny values (fp16's smallest subnormal
+    // is 2^-24).
+    add(0.99997f, 1.0f);
+    add(1.0f - 1e-7f, 1.0f);
+    add(0.0f, 0.0f);
+    add(1e-9f, 0.0f);
+    add(std::ldexp(1.0f, -24) * 0.9f, std::ldexp(1.0f, -24));
+    std::vector<float> r = RunOnDevice(*context, cases);
+    for (size_t i = 0; i < cases.size(); i++)
+    {
+        INFO("x " << cases[i].x);
+        CHECK(r[i * kResultFloats + 4] == expected[i]);
+    }
     CHECK(context->ValidationMessageCount() == 0);
 }

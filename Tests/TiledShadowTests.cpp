@@ -451,9 +451,11 @@ std::vector<float> AtrousReference(const Inputs& in, const FilterInputs& f, cons
                     result = std::min(std::max(sc + sum / weightSum, 0.0), 1.0);
                     resultVariance = isLitSample[c] ? 0.0 : sumVariance / (weightSum * weightSum);
                 }
+                // The passes store the shadow as the nearest fp16 value (_NRD_NearestFp16), the variance
+                // with the store's rounding.
                 if (isLast)
-                    out[c] = float(std::min(std::max(result, 0.0), 1.0));
-                next[c * 2] = test::RoundToHalf(float(result), truncate);
+                    out[c] = test::RoundToHalf(float(std::min(std::max(result, 0.0), 1.0)), false);
+                next[c * 2] = test::RoundToHalf(float(result), false);
                 next[c * 2 + 1] = test::RoundToHalf(float(resultVariance), truncate);
             }
         s.swap(next);

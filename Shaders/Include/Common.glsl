@@ -42,6 +42,21 @@ vec4 _NRD_Fp16Converge(vec4 x, vec4 history, vec4 target)
                 _NRD_Fp16Converge(x.z, history.z, target.z), _NRD_Fp16Converge(x.w, history.w, target.w));
 }
 
+// The fp16 value nearest to 'x' (finite, within the fp16 range): stored, it stays as it is whatever
+// the store's rounding. A filter's output a few fp32 ulps under 1 (a lit pixel that took 3e-5 of a
+// shadowed neighbour) otherwise reads 1 - 2^-11 where stores round towards zero.
+float _NRD_NearestFp16(float x)
+{
+    uint h = packHalf2x16(vec2(x, 0.0)) & 0xFFFFu;
+    float a = unpackHalf2x16(h).x;
+    float b = unpackHalf2x16(x > a ? _NRD_Fp16StepUp(h) : _NRD_Fp16StepDown(h)).x;
+    return abs(b - x) < abs(a - x) ? b : a;
+}
+vec4 _NRD_NearestFp16(vec4 v)
+{
+    return vec4(_NRD_NearestFp16(v.x), _NRD_NearestFp16(v.y), _NRD_NearestFp16(v.z), _NRD_NearestFp16(v.w));
+}
+
 // Fraction of a disk's area on the far side of a chord, the chord at signed distance 'x' (in radii)
 // from the centre on the near side (x <= -1: none of it; 0: half; >= 1: all). A light's disk cut by a
 // surface's tangent plane: x = cos(angle between the normal and the light's direction) / sin(the

@@ -113,7 +113,11 @@
 //   the 5x5's penumbrae are all under NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA, a pixel whose 3x3
 //   holds only hard ones, or whose 3x3 samples agree, is a hard shadow's (isNarrowAround).
 // The 5x5 reaches the lit pixels a leg's shadow left, up to 2 pixels from it (the 3x3 took mesh_thin at
-// 64x64 to 0.77 where the 5x5 took it to 0.96).
+// 64x64 to 0.77 where the 5x5 took it to 0.96). A lit sample of isNarrowAround on a line of light (at
+// most TS_THIN_SHADOW_NEIGHBORS lit neighbours, two of them opposite through it: the gap between two
+// legs' shadows) is output as it is: the history there is the shadows' that moved off, the filter
+// takes from the shadows beside it, and the line is as wide as the pixel (mesh_thin at 128x128: lit
+// samples of truth 1 between shadows had come out at 0.4-0.6; FLIP 1.0053x -> 1.0033x the input's).
 #define TS_OCCLUDER_RADIUS 2
 #define TS_OCCLUDER_MOVED 0.05
 #define TS_OCCLUDER_MODEL 0.1
@@ -627,6 +631,7 @@ void main()
         float softKeep = NRD_FP16_MAX;
         bool isFastNarrowSoft = false; // See TS_MOVING_NARROW_PENUMBRA.
         bool isNarrowAround = false; // A moving occluder's soft shadow around, its penumbrae narrow.
+        bool isNarrowLit = false; // A lit sample of isNarrowAround.
 #if TS_SHADOW_DATA
         if (_NRD_ShadowMotion_IsLightMoving())
         {
@@ -706,6 +711,7 @@ void main()
                 isNarrowAround = occluderWidest < NRD_SHADOW_MOTION_OCCLUDER_NARROW_PENUMBRA;
                 if (isNarrowAround && nearWidest < NRD_SHADOW_MOTION_OCCLUDER_EXACT_PENUMBRA)
                     movedKeep = 0.0;
+                isNarrowLit = isNarrowAround && sample0 != 0.0;
             }
             else
                 occluderShift = vec2(0.0);
@@ -1233,7 +1239,7 @@ void main()
         bool isHardArrival = isHardSample && !isDisoccluded && !isMoving && ((footprintBits >> uint(nearest)) & 1u) != 0u &&
                              ((previousBits & youngLitBits) >> uint(nearest) & 1u) != 0u;
         if (isHardArrival || (isContradicted && !isDisoccluded) || isSharpShadow || isDeterministic || isTurned || isSettledMoving || isExactShadow || isLitLine || isPersistent || isExactMoving ||
-            isLitMovedEdge || movedKeep < 1.0)
+            isLitMovedEdge || movedKeep < 1.0 || (isNarrowLit && litNeighbors <= TS_THIN_SHADOW_NEIGHBORS && HasLine(near)))
             variance = TS_OUTPUT_SAMPLE - sample0;
         else if (isFastNarrowSoft)
             variance = TS_OUTPUT_SAMPLE - PlusMean(near, nearInImage);

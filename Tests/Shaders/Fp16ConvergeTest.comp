@@ -1,6 +1,6 @@
 // Evaluates _NRD_Fp16Converge (Shaders/Include/Common.glsl) for Fp16ConvergeTests.cpp: one call per
 // case, and a history blended towards a constant target frame after frame, stored in fp16, with and
-// without it.
+// without it; and _NRD_NearestFp16 of the case's x.
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -10,9 +10,9 @@ layout(local_size_x = 64, local_size_y = 1, local_size_z = 1) in;
 
 // Per case, 4 floats: x, history, target, the blend weight of the history (for the sequences).
 layout(set = 0, binding = 0, std430) readonly buffer Cases { float gCases[]; };
-// Per case, 4 floats: _NRD_Fp16Converge(x, history, target); the history after 1024 frames of
+// Per case, 5 floats: _NRD_Fp16Converge(x, history, target); the history after 1024 frames of
 // mix(target, history, weight) stored in fp16 through _NRD_Fp16Converge, and without it; the first
-// frame at which the former equals the target (1024 if none).
+// frame at which the former equals the target (1024 if none); _NRD_NearestFp16(x).
 layout(set = 0, binding = 1, std430) buffer Results { float gResults[]; };
 layout(push_constant) uniform Push { uint gCaseNum; };
 
@@ -33,8 +33,9 @@ void main()
         if (converged == target && reached == 1024.0)
             reached = float(frame);
     }
-    gResults[i * 4u + 0u] = _NRD_Fp16Converge(x, history, target);
-    gResults[i * 4u + 1u] = converged;
-    gResults[i * 4u + 2u] = plain;
-    gResults[i * 4u + 3u] = reached;
+    gResults[i * 5u + 0u] = _NRD_Fp16Converge(x, history, target);
+    gResults[i * 5u + 1u] = converged;
+    gResults[i * 5u + 2u] = plain;
+    gResults[i * 5u + 3u] = reached;
+    gResults[i * 5u + 4u] = _NRD_NearestFp16(x);
 }
