@@ -200,7 +200,7 @@ void WriteResult(ivec2 pixel, SIGMA_TYPE shown, SIGMA_TYPE result, float viewZ, 
                  bool isPassed, bool isMoving, bool wasLit, bool isMean)
 {
     // The nearest fp16 value (_NRD_NearestFp16): the store's rounding cannot take an ulp off a lit 1.
-    imageStore(gOut_ShadowTranslucency, pixel, _NRD_NearestFp16(vec4(isPassed ? current : shown)));
+    imageStore(gOut_ShadowTranslucency, pixel, vec4(_NRD_NearestFp16(isPassed ? current : shown)));
     imageStore(gHistory_Shadow, pixel, vec4(result));
     bool isLit = _Sigma_MaxComponent(current) >= 0.5;
     imageStore(gHistory_ViewZHistoryLength, pixel,
