@@ -5,13 +5,36 @@
 // that `ctest -j` runs side by side (nrd_add_test's SHARDS, Tests/CMakeLists.txt). Contiguous, so
 // that neighbouring cases that share a cached setup (the robustness matrix's clean runs of one
 // method) stay in one process.
+//
+// A fatal signal (a crash in the Vulkan driver, a heap corruption that glibc aborts on) ends the
+// process at once, after naming the test case it ran: Catch's own handler reports through the
+// reporter, which allocates, and a process aborted inside malloc then deadlocks on the heap's lock
+// until ctest's timeout (15 minutes lost, and no name). CrashNamer writes with write(2) only.
+// Under AddressSanitizer its own handlers stay (they report the faulting access).
 #define CATCH_CONFIG_RUNNER
+#define CATCH_CONFIG_NO_POSIX_SIGNALS
+#define CATCH_CONFIG_EXTERNAL_INTERFACES
 #include <catch2/catch.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#define NRD_TEST_UNDER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define NRD_TEST_UNDER_ASAN 1
+#endif
+#endif
+#ifndef NRD_TEST_UNDER_ASAN
+#define NRD_TEST_UNDER_ASAN 0
+#endif
 
 namespace
 {
@@ -40,10 +63,55 @@ std::string EscapeName(const std::string& name)
     return escaped;
 }
 
+// The running test case's name, for the signal handler (a fixed buffer: no allocation there).
+char g_CurrentTest[512] = "(before the first test case)";
+
+void WriteAll(const char* text)
+{
+    size_t length = std::strlen(text);
+    while (length > 0)
+    {
+        ssize_t written = write(STDERR_FILENO, text, length);
+        if (written <= 0)
+            return;
+        text += written;
+        length -= (size_t)written;
+    }
+}
+
+extern "C" [[maybe_unused]] void OnFatalSignal(int signal)
+{
+    WriteAll("\nFatal signal ");
+    WriteAll(signal == SIGABRT ? "SIGABRT" : signal == SIGSEGV ? "SIGSEGV" : signal == SIGBUS ? "SIGBUS"
+             : signal == SIGFPE ? "SIGFPE" : signal == SIGILL ? "SIGILL" : "(other)");
+    WriteAll(" in test case: ");
+    WriteAll(g_CurrentTest);
+    WriteAll("\n");
+    std::signal(signal, SIG_DFL); // Then die of it (core dump, ctest's "exception" status).
+    std::raise(signal);
+}
+
+struct CrashNamer : Catch::TestEventListenerBase
+{
+    using TestEventListenerBase::TestEventListenerBase;
+    void testCaseStarting(Catch::TestCaseInfo const& info) override
+    {
+        std::snprintf(g_CurrentTest, sizeof(g_CurrentTest), "%s", info.name.c_str());
+        TestEventListenerBase::testCaseStarting(info);
+    }
+};
+
 } // namespace
+
+CATCH_REGISTER_LISTENER(CrashNamer)
 
 int main(int argc, char* argv[])
 {
+#if !NRD_TEST_UNDER_ASAN
+    for (int signal : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
+        std::signal(signal, OnFatalSignal);
+#endif
+
     Catch::Session session;
     int status = session.applyCommandLine(argc, argv);
     if (status != 0)
