@@ -1639,6 +1639,53 @@ TEST_CASE("TILED_SHADOW keeps a lamp's thin shadows dark from the frame it is sw
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+TEST_CASE("TILED_SHADOW outputs exact shadowed samples where a lamp switched on under the sky's edge", "[vulkan]")
+{
+    // Still camera, IN_SHADOWDATA bound. The rows above the horizon are sky (lit in the mask); below
+    // them the plane is dark on frames 0-7 (a lamp off) and lit from frame 8, but for exact shadowed
+    // samples (penumbra radius 0.01 pixel) in every third pixel of the first rows under the sky (the
+    // far floor at the horizon) and of a row in the middle. Near the sky the 17x17 local mean was
+    // not uniform before the switch (half of it is sky), so isSwitchedOn does not fire there; its
+    // jump (above TS_GLOBAL_CHANGE) still says the history is no evidence, and the exact samples are
+    // output as sampled on the switch frame (toggling_light at 160x160: 0.69 for truth 0 before).
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    const uint32_t w = 64, h = 48, horizon = 16;
+    TiledShadowRig rig(*context);
+    TiledShadowSettings settings = {};
+    settings.isShadowDataInput = true;
+    rig.Create(w, h, settings);
+    auto isHorizonDot = [&](uint32_t x, uint32_t y) { return y >= horizon && y < horizon + 2 && x % 3 == 1; };
+    auto isMiddleDot = [&](uint32_t x, uint32_t y) { return y == 34 && x % 3 == 1; };
+    Inputs in(w, h);
+    std::vector<float> out;
+    for (uint32_t frame = 0; frame <= 8; frame++)
+    {
+        in = Inputs(w, h);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+            {
+                size_t i = size_t(y) * w + x;
+                if (y < horizon)
+                    in.viewZ[i] = 1e7f;
+                in.visibility[i] = y < horizon || (frame >= 8 && !isHorizonDot(x, y) && !isMiddleDot(x, y)) ? 1.0f : 0.0f;
+            }
+        SetShadowData(in, [](uint32_t, uint32_t) { return 0.01f; });
+        out = rig.Frame(CameraSettings(frame, 0.0f, 0.0f), in);
+        REQUIRE(CountNonFinite(out) == 0);
+    }
+    ShadowedOutput horizonDots = MeasureShadowed(in, out, [&](uint32_t x, uint32_t y) { return isHorizonDot(x, y) && x > 1 && x < w - 2; });
+    ShadowedOutput middleDots = MeasureShadowed(in, out, [&](uint32_t x, uint32_t y) { return isMiddleDot(x, y) && x > 1 && x < w - 2; });
+    std::printf("TILED_SHADOW a lamp switched on: exact shadowed samples under the sky's edge %u of %u output 0 (mean %.3f), "
+                "in the middle %u of %u (mean %.3f)\n",
+                horizonDots.zeros, horizonDots.count, horizonDots.mean, middleDots.zeros, middleDots.count, middleDots.mean);
+    REQUIRE(horizonDots.count >= 30);
+    REQUIRE(middleDots.count >= 15);
+    CHECK(horizonDots.mean <= 0.05);
+    CHECK(middleDots.mean <= 0.05);
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
 TEST_CASE("TILED_SHADOW filters the samples of a penumbra wider than a pixel under camera motion", "[vulkan]")
 {
     // A straight shadow edge whose penumbra is 6 pixels wide (radius 3, IN_SHADOWDATA saying so for
