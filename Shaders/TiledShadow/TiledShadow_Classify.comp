@@ -1176,16 +1176,18 @@ void main()
             samples = 2.0;
         }
         // TS_HARD_FRESH_SAMPLES: an exact shadowed sample on a history of fewer than 2 samples (a
-        // disocclusion, a restart on this frame or the last) in a still view is output as sampled (the
-        // variance is set nowhere else from here on but to the same code, below). Likewise next to
-        // hard shadows that a moving light carried (TS_MOVING_LIT_NEIGHBORS), and where the 17x17 local
-        // mean jumped by more than TS_GLOBAL_CHANGE from its running mean (a light switched on or off:
-        // the history is no evidence; isSwitched needs a uniform neighbourhood before the jump, which the
-        // far floor under the sky's edge never has, the sky counting as lit: toggling_light at 160x160
-        // output 0.69 there for truth 0 on every switch frame, relMSE ratio 2.25, half its oracle's 5.09).
-        // Under camera motion, see TS_MOVING_EXACT_PENUMBRA.
+        // disocclusion, a restart on this frame or the last, a history that the clamp box rejected: the
+        // length after the rejection counts; a sphere flying in front of the camera left the exact
+        // shadows it uncovered to the boosted filter, 0.38 for truth 0) in a still view is output as
+        // sampled (the variance is set nowhere else from here on but to the same code, below). Likewise
+        // next to hard shadows that a moving light carried (TS_MOVING_LIT_NEIGHBORS), and where the 17x17
+        // local mean jumped by more than TS_GLOBAL_CHANGE from its running mean (a light switched on or
+        // off: the history is no evidence; isSwitched needs a uniform neighbourhood before the jump,
+        // which the far floor under the sky's edge never has, the sky counting as lit: toggling_light at
+        // 160x160 output 0.69 there for truth 0 on every switch frame, a relMSE ratio of 2.25, under half
+        // its oracle's 5.09). Under camera motion, see TS_MOVING_EXACT_PENUMBRA.
         bool isJump = abs(localMean - history.w) > TS_GLOBAL_CHANGE;
-        if (isMoving ? isExactMovingSample : isExactSample && (history.z < TS_HARD_FRESH_SAMPLES || movedKeep < NRD_FP16_MAX || isJump))
+        if (isMoving ? isExactMovingSample : isExactSample && (previousSamples < TS_HARD_FRESH_SAMPLES || movedKeep < NRD_FP16_MAX || isJump))
             variance = TS_OUTPUT_SAMPLE - sample0;
         if (isDeterministic)
         {
