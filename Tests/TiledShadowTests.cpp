@@ -1639,6 +1639,37 @@ TEST_CASE("TILED_SHADOW keeps a lamp's thin shadows dark from the frame it is sw
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+// Still camera, IN_SHADOWDATA bound with every shadowed sample exact (penumbra radius 0.01 pixel):
+// frames 0 to 'lastFrame' of a plane whose sample at (x, y) on a frame is visibility(x, y, frame), under
+// 'skyRows' rows of sky. Returns the last frame's inputs and output.
+template <class Visibility>
+std::pair<Inputs, std::vector<float>> RunExactStill(lab::VulkanContext& context, uint32_t w, uint32_t h, uint32_t skyRows,
+                                                    uint32_t lastFrame, Visibility visibility)
+{
+    TiledShadowRig rig(context);
+    TiledShadowSettings settings = {};
+    settings.isShadowDataInput = true;
+    rig.Create(w, h, settings);
+    Inputs in(w, h);
+    std::vector<float> out;
+    for (uint32_t frame = 0; frame <= lastFrame; frame++)
+    {
+        in = Inputs(w, h);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+            {
+                size_t i = size_t(y) * w + x;
+                if (y < skyRows)
+                    in.viewZ[i] = 1e7f;
+                in.visibility[i] = y < skyRows || visibility(x, y, frame) ? 1.0f : 0.0f;
+            }
+        SetShadowData(in, [](uint32_t, uint32_t) { return 0.01f; });
+        out = rig.Frame(CameraSettings(frame, 0.0f, 0.0f), in);
+        REQUIRE(CountNonFinite(out) == 0);
+    }
+    return {in, out};
+}
+
 TEST_CASE("TILED_SHADOW outputs exact shadowed samples where a lamp switched on under the sky's edge", "[vulkan]")
 {
     // Still camera, IN_SHADOWDATA bound. The rows above the horizon are sky (lit in the mask); below
@@ -1651,29 +1682,11 @@ TEST_CASE("TILED_SHADOW outputs exact shadowed samples where a lamp switched on 
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
     const uint32_t w = 64, h = 48, horizon = 16;
-    TiledShadowRig rig(*context);
-    TiledShadowSettings settings = {};
-    settings.isShadowDataInput = true;
-    rig.Create(w, h, settings);
     auto isHorizonDot = [&](uint32_t x, uint32_t y) { return y >= horizon && y < horizon + 2 && x % 3 == 1; };
     auto isMiddleDot = [&](uint32_t x, uint32_t y) { return y == 34 && x % 3 == 1; };
-    Inputs in(w, h);
-    std::vector<float> out;
-    for (uint32_t frame = 0; frame <= 8; frame++)
-    {
-        in = Inputs(w, h);
-        for (uint32_t y = 0; y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-            {
-                size_t i = size_t(y) * w + x;
-                if (y < horizon)
-                    in.viewZ[i] = 1e7f;
-                in.visibility[i] = y < horizon || (frame >= 8 && !isHorizonDot(x, y) && !isMiddleDot(x, y)) ? 1.0f : 0.0f;
-            }
-        SetShadowData(in, [](uint32_t, uint32_t) { return 0.01f; });
-        out = rig.Frame(CameraSettings(frame, 0.0f, 0.0f), in);
-        REQUIRE(CountNonFinite(out) == 0);
-    }
+    auto [in, out] = RunExactStill(*context, w, h, horizon, 8, [&](uint32_t x, uint32_t y, uint32_t frame) {
+        return frame >= 8 && !isHorizonDot(x, y) && !isMiddleDot(x, y);
+    });
     ShadowedOutput horizonDots = MeasureShadowed(in, out, [&](uint32_t x, uint32_t y) { return isHorizonDot(x, y) && x > 1 && x < w - 2; });
     ShadowedOutput middleDots = MeasureShadowed(in, out, [&](uint32_t x, uint32_t y) { return isMiddleDot(x, y) && x > 1 && x < w - 2; });
     std::printf("TILED_SHADOW a lamp switched on: exact shadowed samples under the sky's edge %u of %u output 0 (mean %.3f), "
@@ -1700,26 +1713,11 @@ TEST_CASE("TILED_SHADOW outputs exact shadowed samples whose history the clamp r
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
     const uint32_t w = 64, h = 48, dotRow = 20;
-    TiledShadowRig rig(*context);
-    TiledShadowSettings settings = {};
-    settings.isShadowDataInput = true;
-    rig.Create(w, h, settings);
     auto isDot = [&](uint32_t x, uint32_t y) { return y == dotRow && x % 6 == 3; };
-    Inputs in(w, h);
-    std::vector<float> out;
-    for (uint32_t frame = 0; frame <= 10; frame++)
-    {
-        in = Inputs(w, h);
-        for (uint32_t y = 0; y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-            {
-                bool isBand = frame < 10 && (y == dotRow + 6 || y == dotRow + 7);
-                in.visibility[size_t(y) * w + x] = isDot(x, y) || isBand ? 0.0f : 1.0f;
-            }
-        SetShadowData(in, [](uint32_t, uint32_t) { return 0.01f; });
-        out = rig.Frame(CameraSettings(frame, 0.0f, 0.0f), in);
-        REQUIRE(CountNonFinite(out) == 0);
-    }
+    auto [in, out] = RunExactStill(*context, w, h, 0, 10, [&](uint32_t x, uint32_t y, uint32_t frame) {
+        bool isBand = frame < 10 && (y == dotRow + 6 || y == dotRow + 7);
+        return !isDot(x, y) && !isBand;
+    });
     ShadowedOutput dots = MeasureShadowed(in, out, [&](uint32_t x, uint32_t y) { return isDot(x, y) && x > 2 && x < w - 3; });
     std::printf("TILED_SHADOW exact shadowed dots after a band beside them left: %u of %u output 0 (mean %.3f)\n", dots.zeros, dots.count,
                 dots.mean);
