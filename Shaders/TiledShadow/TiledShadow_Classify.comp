@@ -953,7 +953,8 @@ void main()
         // Where a uniform neighbourhood changed at once (a light switched on), the clamped history is
         // the new neighbourhood's mean: worth a few samples, where restarting from one would take
         // many frames to settle in the penumbrae. Elsewhere (a moving shadow) it would trail.
-        bool isSwitched = abs(localMean - history.w) > TS_GLOBAL_CHANGE && abs(history.w - 0.5) > 0.5 - TS_UNIFORM_BEFORE;
+        bool isJump = abs(localMean - history.w) > TS_GLOBAL_CHANGE; // Also for the exact samples (TS_HARD_FRESH_SAMPLES).
+        bool isSwitched = isJump && abs(history.w - 0.5) > 0.5 - TS_UNIFORM_BEFORE;
         // A light switched on over a dark neighbourhood (its local mean up by more than
         // TS_SWITCHED_ON at once; a shadow leaving a dark area raises it gradually): the history and
         // the temporal mean hold the dark frames, and the box clamp would start every pixel at the new
@@ -1186,7 +1187,6 @@ void main()
         // which the far floor under the sky's edge never has, the sky counting as lit: toggling_light at
         // 160x160 output 0.69 there for truth 0 on every switch frame, a relMSE ratio of 2.25, under half
         // its oracle's 5.09). Under camera motion, see TS_MOVING_EXACT_PENUMBRA.
-        bool isJump = abs(localMean - history.w) > TS_GLOBAL_CHANGE;
         if (isMoving ? isExactMovingSample : isExactSample && (previousSamples < TS_HARD_FRESH_SAMPLES || movedKeep < NRD_FP16_MAX || isJump))
             variance = TS_OUTPUT_SAMPLE - sample0;
         if (isDeterministic)
