@@ -196,8 +196,9 @@
 // tell a penumbra from a sharp shadow, and the boosted filter would light the umbrae that a
 // disocclusion or a restart revealed (the corners of compact shadows, which the 3x3 pattern tests
 // take for noise: disocclusion at 64x64). A penumbra of 0 (a light sample below the surface's
-// horizon) is left out: fast_occluder's boxes have faces turned side-on to its sphere lamp, half of
-// which is above their horizon, and lost 13-17% at 128x128 and 256x256 with them.
+// horizon) is left out unless the whole light is below it (isBelowHorizon): fast_occluder's boxes
+// have faces turned side-on to its sphere lamp, half of which is above their horizon, and lost 13-17%
+// at 128x128 and 256x256 with them.
 #define TS_HARD_FRESH_SAMPLES 2.0
 // Under camera motion, a shadowed sample whose penumbra radius is above 0 and under this many pixels is
 // output as it is whatever its history (resampled every frame, it greys a hard shadow's small parts:
@@ -205,9 +206,11 @@
 // on the camera scenes at 64x64, but took camera_rotation above the input's FLIP at another seed (a
 // pixel centre within a quarter-pixel penumbra is not exact). The lit side of such an edge: a lit
 // sample with at least TS_MOVING_EXACT_LIT_NEIGHBORS lit neighbours, whose shadowed neighbours all
-// have a penumbra radius above 0 and under TS_MOVING_EXACT_PENUMBRA, is output as it is too.
+// have a penumbra radius above 0 and under TS_MOVING_EXACT_PENUMBRA, is output as it is too. (4: the
+// lit corner of a hard shadow's corner as well; with 5, a hard sun's box corners under a fast orbit
+// lost 0.05-0.13 of their light, FLIP 1.02x the input's at 64x64.)
 #define TS_MOVING_EXACT_PENUMBRA 0.1
-#define TS_MOVING_EXACT_LIT_NEIGHBORS 5
+#define TS_MOVING_EXACT_LIT_NEIGHBORS 4
 #define TS_MOVED_CONTRADICTIONS 2
 #define TS_MOVED_CONTRADICTIONS_LIT 3
 #define TS_MOVED_LIT_NEIGHBORS 3
@@ -271,6 +274,13 @@
 // sample is not exact, and isSharpShadow, isSettledMoving and isTurned, which output the sample as it
 // is, leave it to the filter (see isWidePenumbra).
 #define TS_WIDE_PENUMBRA 1.0
+// Under camera motion (TS_SHADOW_DATA), a shadowed sample whose 3x3 bits look like penumbra noise
+// (IsNoisyPattern) is sharp all the same where every shadowed sample of its 3x3 has a penumbra radius
+// under this many pixels (or lies below its surface's horizon, see isBelowHorizon): so narrow a
+// penumbra makes no such pattern; it is the occluder's outline (the corner of a two-pixel-wide pole's
+// shadow under a hard sun). 0.25 took camera_rotation at 64x64 above the input's FLIP at another seed
+// (1.0010x), as TS_MOVING_EXACT_PENUMBRA 0.25 did.
+#define TS_NOISE_PENUMBRA 0.15
 // Window radius of the "near" statistics (variance boost, clamp box extension).
 #define TS_BOOST_RADIUS 1
 
@@ -1156,14 +1166,20 @@ void main()
         // NaN reads as not hard; lit samples carry NRD_FP16_MAX. A penumbra of 0 is a light sample below
         // the surface's horizon (SIGMA_FrontEnd_PackShadow's distance 0: a surface turning away from a
         // moving light): against a settled lit history it is as good evidence as a hard one, but it is
-        // exact only where the whole light is below the horizon, which is not known here (a sphere lamp
-        // straddles the horizon of a face turned side-on to it: the truth is the part above).
+        // exact only where the whole light is below the horizon (isBelowHorizon, from the light the
+        // application gives; a sphere lamp straddles the horizon of a face turned side-on to it: the
+        // truth is the part above). The dark side of a pole under a hard sun is: left to the filter
+        // under a fast orbit, it took light from the lit side (0.07 for truth 0).
         float penumbraPixels = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), pixel, 0).y * gProjectY;
         bool isHardSample = sample0 == 0.0 && penumbraPixels < TS_HARD_ARRIVAL_PENUMBRA;
-        bool isExactSample = isHardSample && penumbraPixels > 0.0;
+        // (The disk's fraction above the horizon under 1e-4, not 0: asin(-1) need not be exactly -pi / 2.)
+        float horizonFraction = _NRD_ShadowMotion_HorizonVisibility(Xv, Nv); // -1: the light is not known.
+        bool isBelowHorizon = isHardSample && penumbraPixels == 0.0 && horizonFraction >= 0.0 && horizonFraction < 1e-4;
+        bool isExactSample = isHardSample && (penumbraPixels > 0.0 || isBelowHorizon);
         bool isExactMovingSample = isExactSample && penumbraPixels < TS_MOVING_EXACT_PENUMBRA;
 #else
         const bool isHardSample = false;
+        const bool isBelowHorizon = false;
         const bool isExactSample = false;
         const bool isExactMovingSample = false;
 #endif
@@ -1220,16 +1236,27 @@ void main()
         // isSettledMoving) 0.00018. Only under motion: in a still view a disoccluded wide penumbra's
         // dark samples are best output while the history is short (disocclusion at 64x64 2.94 -> 2.65
         // with the rule in still views too).
+        // With the penumbrae known (TS_SHADOW_DATA), under motion the 9x9 window's changes are not
+        // asked: outside wide penumbrae the sample is exact, and the outline of a thin shadow moving
+        // fast across the view changes the window as often as noise would (a pole's shadow one pixel
+        // wide under a camera orbiting 5 degrees a frame at 64x64 was left to the filter: 0.57-0.76
+        // for truth 0, a relMSE 1.37 times the input's). Nor, where the 3x3's penumbrae are under
+        // TS_NOISE_PENUMBRA, its 3x3 pattern.
 #if TS_SHADOW_DATA
         bool isWidePenumbra = isMoving && ShadowedPenumbrae3x3(near, pixel, TS_WIDE_PENUMBRA, NRD_FP16_MAX).x != 0u;
+        bool isNoise = IsNoisyPattern(near) &&
+                       !(isMoving && ShadowedPenumbrae3x3(near, pixel, isBelowHorizon ? -1.0 : 0.0, TS_NOISE_PENUMBRA).y == 0u);
+        const bool isPenumbraKnown = true;
 #else
         const bool isWidePenumbra = false;
+        bool isNoise = IsNoisyPattern(near);
+        const bool isPenumbraKnown = false;
 #endif
         bool isSharpShadow = sample0 == 0.0 && !isWidePenumbra &&
                              (isMoving || samples < TS_SPATIAL_BOOST_SAMPLES || (samples < TS_SHARP_SAMPLES && result < TS_DARK_RESULT) ||
                               (isUnlikely && support < TS_CONTRADICTION * footprint)) &&
-                             !IsNoisyPattern(near);
-        if (isSharpShadow)
+                             !isNoise;
+        if (isSharpShadow && !(isMoving && isPenumbraKnown))
         {
             if (structure < 0.0)
                 structure = ChangesRelativeToNoise(local, groupOrigin, isInterior);
