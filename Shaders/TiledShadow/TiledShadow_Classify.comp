@@ -1173,8 +1173,12 @@ void main()
         float penumbraPixels = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), pixel, 0).y * gProjectY;
         bool isHardSample = sample0 == 0.0 && penumbraPixels < TS_HARD_ARRIVAL_PENUMBRA;
         // (The disk's fraction above the horizon under 1e-4, not 0: asin(-1) need not be exactly -pi / 2.)
-        float horizonFraction = _NRD_ShadowMotion_HorizonVisibility(Xv, Nv); // -1: the light is not known.
-        bool isBelowHorizon = isHardSample && penumbraPixels == 0.0 && horizonFraction >= 0.0 && horizonFraction < 1e-4;
+        bool isBelowHorizon = false;
+        if (isHardSample && penumbraPixels == 0.0)
+        {
+            float horizonFraction = _NRD_ShadowMotion_HorizonVisibility(Xv, Nv); // -1: the light is not known.
+            isBelowHorizon = horizonFraction >= 0.0 && horizonFraction < 1e-4;
+        }
         bool isExactSample = isHardSample && (penumbraPixels > 0.0 || isBelowHorizon);
         bool isExactMovingSample = isExactSample && penumbraPixels < TS_MOVING_EXACT_PENUMBRA;
 #else
