@@ -211,6 +211,22 @@
 // lost 0.05-0.13 of their light, FLIP 1.02x the input's at 64x64.)
 #define TS_MOVING_EXACT_PENUMBRA 0.1
 #define TS_MOVING_EXACT_LIT_NEIGHBORS 4
+// An exact edge in a still view (TS_SHADOW_DATA): every shadowed sample of the 3x3 has a penumbra
+// radius under TS_EXACT_EDGE_PENUMBRA pixels, or 0 with the whole light below its surface's horizon
+// (a face turned away: the lab's, and any application's, occluder distance 0). The lit side of such an
+// edge on a fresh history (TS_HARD_FRESH_SAMPLES, a light just switched on or moved) is output as
+// sampled, as the shadowed side already is; after a switch both restart their history at the sample:
+// started from the 3x3 mean (isSwitchedOn), the history of a lamp switched every 3 frames kept the lit
+// pixels beside its hard shadows grey for the whole on-period (0.81-0.95 for truth 1; FLIP 1.53x the
+// input's at 64x64, 0.96x with both rules). And while the history is younger than
+// TS_TEMPORAL_ONLY_SAMPLES, no spatial filter there (the variance handed on is 0): the 1-spp samples
+// of an exact edge are right but for the pixels the edge crosses, which the accumulation of jittered
+// samples antialiases, while the boosted filter took light across the edge into narrow shadows and
+// shade into narrow lit lines (a blind's stripes after its sun stopped: FLIP 1.08x the input's at 64x64,
+// 0.89x; from the 8th sample on the filter is weak, and it keeps the relMSE of the penumbrae that an
+// edge of half a pixel still has at 128x128: roughness_sweep 11.48 -> 8.44 without that limit).
+#define TS_EXACT_EDGE_PENUMBRA 0.5
+#define TS_TEMPORAL_ONLY_SAMPLES 8.0
 #define TS_MOVED_CONTRADICTIONS 2
 #define TS_MOVED_CONTRADICTIONS_LIT 3
 #define TS_MOVED_LIT_NEIGHBORS 3
@@ -476,6 +492,23 @@ float WeightedRowSum(uint window)
 }
 
 #if TS_SHADOW_DATA
+// Whether the whole light lies below the horizon of the surface at view-space position Xv, normal Nv
+// (the disk's fraction above it under 1e-4, not 0: asin(-1) need not be exactly -pi / 2); false where
+// the light is not known.
+bool IsLightBelowHorizon(vec3 Xv, vec3 Nv)
+{
+    float fraction = _NRD_ShadowMotion_HorizonVisibility(Xv, Nv); // -1: the light is not known.
+    return fraction >= 0.0 && fraction < 1e-4;
+}
+
+// IsLightBelowHorizon at pixel q.
+bool IsBelowHorizon(ivec2 q)
+{
+    float z = texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x;
+    vec3 N = NRD_FrontEnd_UnpackNormalAndRoughness(texelFetch(sampler2D(gIn_Normal, gNearestClamp), q, 0)).xyz;
+    return IsLightBelowHorizon(_NRD_ViewPosition(_NRD_PixelUv(q), z), N * mat3(gViewToWorld));
+}
+
 // The shadowed samples of the 3x3 around 'pixel' (the bits of 'near' clear; outside the image,
 // clamped to its border) whose penumbra radius in pixels lies strictly between 'above' and 'below'
 // (.x), and the others (.y; NaN among them).
@@ -492,6 +525,24 @@ uvec2 ShadowedPenumbrae3x3(uint near, ivec2 pixel, float above, float below)
         counts += uvec2(isInside ? 1u : 0u, isInside ? 0u : 1u);
     }
     return counts;
+}
+
+// Whether the 3x3 around 'pixel' (the bits of 'near') holds no shadowed sample but exact ones: a
+// penumbra radius in (0, 'below') pixels, or 0 with the whole light below that surface's horizon.
+bool AreShadowedNeighborsExact(uint near, ivec2 pixel, float below)
+{
+    for (int i = 0; i < 9; i++)
+    {
+        if (((near >> uint((i / 3 + 1) * 5 + i % 3 + 1)) & 1u) != 0u)
+            continue; // Lit.
+        ivec2 q = clamp(pixel + ivec2(i % 3 - 1, i / 3 - 1), ivec2(0), ivec2(gResourceSize) - 1);
+        float p = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), q, 0).y * gProjectY;
+        if (p > 0.0 && p < below)
+            continue;
+        if (p != 0.0 || !IsBelowHorizon(q))
+            return false;
+    }
+    return true;
 }
 #endif
 
@@ -700,8 +751,11 @@ void main()
                     // a pixel for a sun), turns with the light like a hard shadow, and a radius of 0
                     // would read as a shadow that never moves (venetian_blinds' sphere kept a full
                     // history of its terminator while the sun turned 2.8 penumbra radii a frame). A
-                    // sphere lamp's terminator can be wide: it keeps its history as before.
-                    bool isPenumbra = p > 0.0 || (p == 0.0 && gLightMotionView.w != 0.0);
+                    // sphere lamp's terminator can be wide: it keeps its history as before, but where
+                    // the whole lamp is below the horizon (a flat face turned away from it, exact, that
+                    // turns dark or lit at once as the lamp passes its plane: a small lamp moving fast
+                    // left such faces at 0.2-0.6 for frames, FLIP 1.046x the input's at 64x64, 1.006x).
+                    bool isPenumbra = p > 0.0 || (p == 0.0 && gLightMotionView.w != 0.0 && !IsBelowHorizon(q));
                     if (isPenumbra && p < NRD_FP16_MAX * 0.75 && !_NRD_IsSky(texelFetch(sampler2D(gIn_ViewZ, gNearestClamp), q, 0).x))
                         widest = max(widest, min(p * gProjectY, 16384.0));
                 }
@@ -1172,13 +1226,7 @@ void main()
         // under a fast orbit, it took light from the lit side (0.07 for truth 0).
         float penumbraPixels = texelFetch(sampler2D(gIn_ShadowData, gNearestClamp), pixel, 0).y * gProjectY;
         bool isHardSample = sample0 == 0.0 && penumbraPixels < TS_HARD_ARRIVAL_PENUMBRA;
-        // (The disk's fraction above the horizon under 1e-4, not 0: asin(-1) need not be exactly -pi / 2.)
-        bool isBelowHorizon = false;
-        if (isHardSample && penumbraPixels == 0.0)
-        {
-            float horizonFraction = _NRD_ShadowMotion_HorizonVisibility(Xv, Nv); // -1: the light is not known.
-            isBelowHorizon = horizonFraction >= 0.0 && horizonFraction < 1e-4;
-        }
+        bool isBelowHorizon = isHardSample && penumbraPixels == 0.0 && IsLightBelowHorizon(Xv, Nv);
         bool isExactSample = isHardSample && (penumbraPixels > 0.0 || isBelowHorizon);
         bool isExactMovingSample = isExactSample && penumbraPixels < TS_MOVING_EXACT_PENUMBRA;
 #else
@@ -1207,8 +1255,18 @@ void main()
         // which the far floor under the sky's edge never has, the sky counting as lit: toggling_light at
         // 160x160 output 0.69 there for truth 0 on every switch frame, a relMSE ratio of 2.25, under half
         // its oracle's 5.09). Under camera motion, see TS_MOVING_EXACT_PENUMBRA.
-        if (isMoving ? isExactMovingSample : isExactSample && (previousSamples < TS_HARD_FRESH_SAMPLES || movedKeep < NRD_FP16_MAX || isJump))
+        // A face that a moving light left below its horizon is exact at once, whatever its history (a
+        // box's side as a small lamp passes its plane: 0.24 for truth 0 on the next frame).
+        bool isFresh = previousSamples < TS_HARD_FRESH_SAMPLES || movedKeep < NRD_FP16_MAX || isJump;
+        if (isMoving ? isExactMovingSample : isExactSample && (isFresh || (isBelowHorizon && _NRD_ShadowMotion_IsLightMoving())))
+        {
             variance = TS_OUTPUT_SAMPLE - sample0;
+            if (!isMoving && isJump) // See TS_EXACT_EDGE_PENUMBRA.
+            {
+                result = sample0;
+                temporalMean = sample0;
+            }
+        }
         if (isDeterministic)
         {
             result = sample0;
@@ -1307,11 +1365,18 @@ void main()
         // TS_MOVING_LIT_NEIGHBORS: the lit side of a hard edge that a moving light carried.
         bool isLitMovedEdge = movedKeep < NRD_FP16_MAX && sample0 != 0.0 && litNeighbors >= TS_MOVING_LIT_NEIGHBORS && !isDisoccluded;
 #if TS_SHADOW_DATA
-        // TS_MOVING_EXACT_LIT_NEIGHBORS: the lit side of an exact edge under camera motion.
-        if (isMoving && !isDisoccluded && sample0 != 0.0 && litNeighbors >= TS_MOVING_EXACT_LIT_NEIGHBORS && litNeighbors < 8)
+        // TS_MOVING_EXACT_LIT_NEIGHBORS: the lit side of an exact edge under camera motion, and in a
+        // still view on a fresh history (TS_EXACT_EDGE_PENUMBRA).
+        if ((isMoving || isFresh) && !isDisoccluded && sample0 != 0.0 && litNeighbors >= TS_MOVING_EXACT_LIT_NEIGHBORS && litNeighbors < 8)
         {
-            bool isExactEdge = ShadowedPenumbrae3x3(near, pixel, 0.0, TS_MOVING_EXACT_PENUMBRA).y == 0u;
+            bool isExactEdge = isMoving ? ShadowedPenumbrae3x3(near, pixel, 0.0, TS_MOVING_EXACT_PENUMBRA).y == 0u
+                                        : AreShadowedNeighborsExact(near, pixel, TS_EXACT_EDGE_PENUMBRA);
             isLitMovedEdge = isLitMovedEdge || isExactEdge;
+            if (isExactEdge && !isMoving && isJump)
+            {
+                result = sample0;
+                temporalMean = sample0;
+            }
         }
 #endif
         bool isTurned = false;
@@ -1337,6 +1402,12 @@ void main()
             variance = TS_OUTPUT_SAMPLE - sample0;
         else if (isFastNarrowSoft)
             variance = TS_OUTPUT_SAMPLE - PlusMean(near, nearInImage);
+#if TS_SHADOW_DATA
+        // See TS_EXACT_EDGE_PENUMBRA (a lit 3x3 has no edge; its variance is the temporal one).
+        if (variance >= 0.0 && !isMoving && !isDisoccluded && samples < TS_TEMPORAL_ONLY_SAMPLES && bitCount(near & NEAR_3X3) < 9 &&
+            AreShadowedNeighborsExact(near, pixel, TS_EXACT_EDGE_PENUMBRA))
+            variance = 0.0;
+#endif
     }
 
     imageStore(gOut_Shadow, pixel, vec4(result, variance, 0.0, 0.0));
