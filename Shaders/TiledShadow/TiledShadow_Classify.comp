@@ -528,9 +528,13 @@ uvec2 ShadowedPenumbrae3x3(uint near, ivec2 pixel, float above, float below)
 }
 
 // Whether the 3x3 around 'pixel' (the bits of 'near') holds no shadowed sample but exact ones: a
-// penumbra radius in (0, 'below') pixels, or 0 with the whole light below that surface's horizon.
-bool AreShadowedNeighborsExact(uint near, ivec2 pixel, float below)
+// penumbra radius in (0, 'below') pixels, or 0 with the whole light below that surface's horizon where
+// the pixel's own surface (view-space position Xv, normal Nv) sees the whole light above its own (next
+// to a sphere's terminator the pixel is a partly lit one: camera_translation at 64x64 lost 8% of its
+// relMSE ratio without that test).
+bool AreShadowedNeighborsExact(uint near, ivec2 pixel, float below, vec3 Xv, vec3 Nv)
 {
+    bool isCentreTested = false;
     for (int i = 0; i < 9; i++)
     {
         if (((near >> uint((i / 3 + 1) * 5 + i % 3 + 1)) & 1u) != 0u)
@@ -541,6 +545,13 @@ bool AreShadowedNeighborsExact(uint near, ivec2 pixel, float below)
             continue;
         if (p != 0.0 || !IsBelowHorizon(q))
             return false;
+        if (!isCentreTested)
+        {
+            float fraction = _NRD_ShadowMotion_HorizonVisibility(Xv, Nv);
+            if (!(fraction > 1.0 - 1e-4))
+                return false;
+            isCentreTested = true;
+        }
     }
     return true;
 }
@@ -1369,8 +1380,7 @@ void main()
         // still view on a fresh history (TS_EXACT_EDGE_PENUMBRA).
         if ((isMoving || isFresh) && !isDisoccluded && sample0 != 0.0 && litNeighbors >= TS_MOVING_EXACT_LIT_NEIGHBORS && litNeighbors < 8)
         {
-            bool isExactEdge = isMoving ? ShadowedPenumbrae3x3(near, pixel, 0.0, TS_MOVING_EXACT_PENUMBRA).y == 0u
-                                        : AreShadowedNeighborsExact(near, pixel, TS_EXACT_EDGE_PENUMBRA);
+            bool isExactEdge = AreShadowedNeighborsExact(near, pixel, isMoving ? TS_MOVING_EXACT_PENUMBRA : TS_EXACT_EDGE_PENUMBRA, Xv, Nv);
             isLitMovedEdge = isLitMovedEdge || isExactEdge;
             if (isExactEdge && !isMoving && isJump)
             {
@@ -1405,7 +1415,7 @@ void main()
 #if TS_SHADOW_DATA
         // See TS_EXACT_EDGE_PENUMBRA (a lit 3x3 has no edge; its variance is the temporal one).
         if (variance >= 0.0 && !isMoving && !isDisoccluded && samples < TS_TEMPORAL_ONLY_SAMPLES && bitCount(near & NEAR_3X3) < 9 &&
-            AreShadowedNeighborsExact(near, pixel, TS_EXACT_EDGE_PENUMBRA))
+            AreShadowedNeighborsExact(near, pixel, TS_EXACT_EDGE_PENUMBRA, Xv, Nv))
             variance = 0.0;
 #endif
     }
