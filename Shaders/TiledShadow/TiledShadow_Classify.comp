@@ -1378,7 +1378,7 @@ void main()
 #if TS_SHADOW_DATA
         // TS_MOVING_EXACT_LIT_NEIGHBORS: the lit side of an exact edge under camera motion, and in a
         // still view on a fresh history (TS_EXACT_EDGE_PENUMBRA).
-        if ((isMoving || isFresh) && !isDisoccluded && sample0 != 0.0 && litNeighbors >= TS_MOVING_EXACT_LIT_NEIGHBORS && litNeighbors < 8)
+        if ((isMoving || isFresh) && sample0 != 0.0 && litNeighbors >= TS_MOVING_EXACT_LIT_NEIGHBORS && litNeighbors < 8)
         {
             bool isExactEdge = AreShadowedNeighborsExact(near, pixel, isMoving ? TS_MOVING_EXACT_PENUMBRA : TS_EXACT_EDGE_PENUMBRA, Xv, Nv);
             isLitMovedEdge = isLitMovedEdge || isExactEdge;
