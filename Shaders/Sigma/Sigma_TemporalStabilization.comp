@@ -18,7 +18,7 @@
 // its tile was moving and whether the sample was lit in the frame before too (viewZ bits with the 5
 // low bits replaced by the length, bit 5 by the sample, bit 6 by the restart, bit 7 by the moving
 // tile, bit 8 by the two lit samples, bit 9 where a hard shadow's history is its samples' running mean
-// under motion).
+// under motion, bit 10 where a moving tile's pass restarted a hard shadow's history at its sample).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 
@@ -43,7 +43,11 @@
 // Bit 9 of the packed viewZ: a hard shadow's history written under resampling (camera or surface
 // motion): the running mean of its samples, not a still view's result.
 #define HISTORY_MEAN_BIT 512u
-#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT | HISTORY_MOVING_BIT | HISTORY_LIT_TWICE_BIT | HISTORY_MEAN_BIT))
+// Bit 10 of the packed viewZ: a hard shadow's history that a moving tile's pass restarted at its sample
+// (see the end of main): the moving-tile test leaves it out.
+#define HISTORY_PASSED_BIT 1024u
+#define HISTORY_VIEWZ_MASK (~(HISTORY_LENGTH_MASK | HISTORY_SAMPLE_BIT | HISTORY_DEPARTED_BIT | HISTORY_MOVING_BIT | HISTORY_LIT_TWICE_BIT | HISTORY_MEAN_BIT | \
+                              HISTORY_PASSED_BIT))
 // Clamping box: mean +- SIGMA_SCALE * sigma. History length lost per unit of clamping displacement:
 // higher values follow moving shadows (moving lights and occluders) sooner at some cost in noise
 // on still ones (measured on the scene lab's static / moving_light / moving_occluder scenes).
@@ -66,6 +70,8 @@
 #define HARD_SHADOW_DEPARTING_TILE 2.0
 #define HARD_SHADOW_DEPARTING_EXCESS 5.0
 #define HARD_SHADOW_FOLLOWER_BLEND 0.3
+// A tile whose departures are at least HARD_SHADOW_DEPARTING_TILE times its arrivals plus its expected
+// contradictions, plus HARD_SHADOW_DEPARTING_EXCESS, had its light switched on (see main).
 #define HARD_SHADOW_RESAMPLED_LIT 0.25
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
 // Under resampling a hard shadow's history is the running mean of its samples over at most
@@ -163,11 +169,12 @@ bool CatmullRomHistory(ivec2 origin, vec2 f, float expectedViewZ, float toleranc
     return true;
 }
 
-uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving, bool isLitTwice, bool isMean)
+uint PackViewZAndHistoryLength(float viewZ, float historyLength, bool isLit, bool isDeparted, bool isMoving, bool isLitTwice, bool isMean,
+                               bool isPassedRestart)
 {
     return (floatBitsToUint(viewZ) & HISTORY_VIEWZ_MASK) | min(uint(historyLength + 0.5), HISTORY_LENGTH_MASK) |
            (isLit ? HISTORY_SAMPLE_BIT : 0u) | (isDeparted ? HISTORY_DEPARTED_BIT : 0u) | (isMoving ? HISTORY_MOVING_BIT : 0u) |
-           (isLit && isLitTwice ? HISTORY_LIT_TWICE_BIT : 0u) | (isMean ? HISTORY_MEAN_BIT : 0u);
+           (isLit && isLitTwice ? HISTORY_LIT_TWICE_BIT : 0u) | (isMean ? HISTORY_MEAN_BIT : 0u) | (isPassedRestart ? HISTORY_PASSED_BIT : 0u);
 }
 
 // Lit samples (blurred signal at least 0.5) among the 8 neighbours of shared-memory position 'c'.
@@ -197,14 +204,14 @@ const uint kNoHistory = 0x7F7FFF80u; // ~3.4e38, length 0, flags clear
 
 // 'shown': the output ('isPassed': this frame's sample instead); 'result': the history.
 void WriteResult(ivec2 pixel, SIGMA_TYPE shown, SIGMA_TYPE result, float viewZ, float historyLength, SIGMA_TYPE current, bool isDeparted,
-                 bool isPassed, bool isMoving, bool wasLit, bool isMean)
+                 bool isPassed, bool isMoving, bool wasLit, bool isMean, bool isPassedRestart)
 {
     // The nearest fp16 value (_NRD_NearestFp16): the store's rounding cannot take an ulp off a lit 1.
     imageStore(gOut_ShadowTranslucency, pixel, vec4(_NRD_NearestFp16(isPassed ? current : shown)));
     imageStore(gHistory_Shadow, pixel, vec4(result));
     bool isLit = _Sigma_MaxComponent(current) >= 0.5;
     imageStore(gHistory_ViewZHistoryLength, pixel,
-               uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted, isMoving, wasLit, isMean)));
+               uvec4(PackViewZAndHistoryLength(viewZ, historyLength, isLit, isDeparted, isMoving, wasLit, isMean, isPassedRestart)));
 }
 
 void main()
@@ -226,7 +233,7 @@ void main()
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
-            WriteResult(pixel, value, value, z, gMaxStabilizedFrameNum, value, false, false, false, false, false);
+            WriteResult(pixel, value, value, z, gMaxStabilizedFrameNum, value, false, false, false, false, false, false);
         }
         return;
     }
@@ -446,7 +453,12 @@ void main()
         // or 1), the chance that a still view's sample contradicts it (the history's distance to the
         // nearer end, at least 0.03 and a quarter of what a young history of its length allows: 1 /
         // (length + 2) by the rule of succession; 0.008 for a history of the full length, whose
-        // samples agreed for longer than the length tells), and whether the sample does.
+        // samples agreed for longer than the length tells), and whether the sample does. Not where a
+        // moving tile's pass restarted the history at its sample (HISTORY_PASSED_BIT): one draw of a
+        // penumbra is no settled history, and the next draws contradict it far more often than the
+        // chance above, which kept still tiles moving and output the lit draws of penumbrae whose
+        // truth is under 0.2 (without this, fast_occluder's relMSE ratio 1.86 -> 1.59 at 64x64, FLIP
+        // 0.814x -> 0.833x the input's).
         if (isHardShadow && !isResampledHard && historyWeight > 0.999)
         {
             uint packedQ = nearestPacked;
@@ -454,7 +466,7 @@ void main()
             if ((packedQ & HISTORY_MOVING_BIT) != 0u)
                 atomicAdd(s_WasMovingNum, 1u);
             wasLit = (packedQ & HISTORY_SAMPLE_BIT) != 0u;
-            if (_Sigma_MaxComponent(maximum - minimum) >= 0.5)
+            if (_Sigma_MaxComponent(maximum - minimum) >= 0.5 && (packedQ & HISTORY_PASSED_BIT) == 0u)
             {
                 SIGMA_TYPE h = history / historyWeight;
                 float settled = _Sigma_MaxComponent(min(h, 1.0 - h));
@@ -503,6 +515,13 @@ void main()
     float expected = float(s_ExpectedContradictions) / 1024.0;
     float contradictionNum = float(s_DepartureNum + s_ArrivalNum);
     bool isStirredTile = contradictionNum >= expected + 1.0;
+    bool isDepartingTile = float(s_DepartureNum) >= HARD_SHADOW_DEPARTING_TILE * float(s_ArrivalNum) + HARD_SHADOW_DEPARTING_EXCESS;
+    // A light switched on: departures beyond what the tile's young histories give a still view as well
+    // (after a switch-on the penumbrae's histories are young, and a few departures a frame are their
+    // noise: tl_5nosun's tile gave 5 departures two frames after the switch, expected 4; 51 at it,
+    // expected 0.65).
+    bool isSwitchedOnTile = float(s_DepartureNum) >=
+                            HARD_SHADOW_DEPARTING_TILE * (float(s_ArrivalNum) + expected) + HARD_SHADOW_DEPARTING_EXCESS;
     bool isMovingTile = (min(s_DepartureNum, s_ArrivalNum) >= 2u && contradictionNum >= 2.0 * expected + 3.0) ||
                         (contradictionNum >= expected + 1.0 && 2u * s_WasMovingNum > s_PixelNum);
     // A hard shadow of a moving tile outputs its sample: a history of a shadow that moves a pixel or
@@ -511,6 +530,7 @@ void main()
     // dark penumbra is noise, and the costliest error there; the end of a one-pixel lit stripe has
     // one lit neighbour).
     bool isPassed = false;
+    bool isMotionPassed = false; // Passed by the light's or the occluder's motion (not the moving tile).
     if (isHardShadow && isMovingTile)
     {
         isPassed = _Sigma_MaxComponent(current) < 0.5 || LitNeighbourNum(c) >= 1 || wasLit;
@@ -531,6 +551,8 @@ void main()
     bool isMean = false; // The history is a hard shadow's running mean (HISTORY_MEAN_BIT).
     float newLength = 1.0;
     bool isDeparted = false;
+    SIGMA_TYPE passHistory = current; // A still view's clamped history and its length (see the pass below).
+    float passLength = 0.0;
     if (isResampledHard)
     {
         // A hard shadow whose history needs resampling (camera or surface motion). Resampled history
@@ -647,7 +669,19 @@ void main()
                         isNextToDeparted = isNextToDeparted || (packed & HISTORY_DEPARTED_BIT) != 0u;
                     }
                 }
-                bool isRow = level > 0 && (departed >= 3 || (level == 2 && departedTwice > 0));
+                // In a tile whose light was switched on, one departed neighbour is enough where the
+                // shadow's edge is sharp (a kernel under HARD_SHADOW_RESTART_RADIUS): the off-state's
+                // dark history says nothing of the pixel, and the lit tip of a shadow's corner has
+                // fewer than three lit neighbours (tl_3hard: a pixel whose truth is 1 output 1/6 at
+                // every switch-on). Wider penumbrae keep the three: a lit sample there is more often
+                // a mostly dark pixel's draw (tl_5nosun: truth 0.09 at a kernel of 0.96 pixel; see the
+                // restarted length below for the figures). So does a lit sample with fewer than two lit
+                // neighbours (toggling_light 128x128: draws of truth 0.09-0.25 restarted at 1; relMSE
+                // ratio 4.06 -> 3.93 without this), and a moving tile, whose departures are a shadow
+                // leaving rather than a light switched on (fast_occluder 128x128: the restarted draws'
+                // arrivals kept the tile moving; FLIP 0.746x -> 0.748x the input's without this).
+                bool isSwitchedOnEdge = isSwitchedOnTile && !isMovingTile && kernelRadius < HARD_SHADOW_RESTART_RADIUS && LitNeighbourNum(c) >= 2;
+                bool isRow = level > 0 && (departed >= 3 || (level == 2 && departedTwice > 0) || (isSwitchedOnEdge && departed >= 1));
                 isDeparted = (isRow && level == 2) || (mayFollow && isNextToDeparted);
                 if (isRow || isDeparted)
                     antilag = 0.0;
@@ -667,7 +701,7 @@ void main()
         // (it prefers the smaller penumbrae; a shadow near its occluder's contact): there it read
         // "not carried" and the history kept the pixel at 1/6 for frames (moving_light 64x64, truth 1).
         if (isHardShadow && isLightMoving && _Sigma_MaxComponent(current) >= 0.5 && _Sigma_MaxComponent(current - history) > HARD_SHADOW_ARRIVAL)
-            isPassed = isPassed || LitNeighbourNum(c) >= 1;
+            isMotionPassed = LitNeighbourNum(c) >= 1;
         // A hard shadow that the light's move, or its occluder's, carried (ShadowMotion.glsl) keeps no
         // more frames than hold NRD_SHADOW_MOTION_HISTORY_PIXELS of its motion: older ones are the
         // shadow where it was.
@@ -676,10 +710,11 @@ void main()
         {
             float keep = _NRD_ShadowMotion_KeptFrames(motion);
             if (keep < 1.0)
-                isPassed = true;
+                isMotionPassed = true;
             else
                 historyLength = min(historyLength, keep);
         }
+        isPassed = isPassed || isMotionPassed;
 
         // A soft shadow that a moving occluder carried (OCCLUDER_SOFT_RADII): its history is where the
         // surface was, so it keeps no more frames than hold that fraction of its widest penumbra radius
@@ -694,6 +729,8 @@ void main()
         if (isHardShadow && isWideAround && !isSoftAround && occluderMotion > 0.0)
             historyLength = min(historyLength, OCCLUDER_SOFT_RADII * nearWidest / occluderMotion);
         // (At least one fp16 step: a pixel whose samples stay the same reaches them exactly.)
+        passHistory = clamped;
+        passLength = historyLength;
         result = _NRD_Fp16Converge(mix(current, clamped, historyLength / (historyLength + 1.0)), clamped, current);
         newLength = min(historyLength + 1.0, gMaxStabilizedFrameNum);
     }
@@ -709,15 +746,49 @@ void main()
     // HARD_SHADOW_ARRIVAL) that did not restart is the dark draw of the same penumbra that its lit
     // neighbours restarted from: it takes HARD_SHADOW_FOLLOWER_BLEND of the 3x3 mean, its history
     // going on as it was (a shadow that stays costs a hundred times more when lit).
-    bool isDepartingTile = float(s_DepartureNum) >= HARD_SHADOW_DEPARTING_TILE * float(s_ArrivalNum) + HARD_SHADOW_DEPARTING_EXCESS;
     bool isRestarted = newLength < 1.5;
     bool isFollower = isDepartingTile && !isRestarted && _Sigma_MaxComponent(current) < 0.5 &&
                       _Sigma_MaxComponent(history) < 1.0 - HARD_SHADOW_ARRIVAL;
     if (isHardShadow && !isResampledHard && historyWeight > 0.999 && kernelRadius >= HARD_SHADOW_RESTART_RADIUS &&
         (isRestarted || isFollower) && !isPassed && _Sigma_MaxComponent(maximum - minimum) >= 0.5)
         result = mix(result, nearMean, isRestarted ? HARD_SHADOW_RESTART_BLEND : HARD_SHADOW_FOLLOWER_BLEND);
+    // Such a shadowed sample on a sharp edge (a kernel under HARD_SHADOW_RESTART_RADIUS: the 3x3 holds
+    // both, the pixel straddles the edge) in a tile whose light was switched on restarts its history's
+    // length: the history is the off state's exact 0, which the full length kept for frames, so that
+    // the pixel's lit draws of the next frames counted for a sixth each (tl_3hard: an edge pixel whose
+    // truth is 0.78 output 0.17 two frames after the switch; FLIP 1.13x the input's). Its samples
+    // since the switch average instead. Wider penumbrae keep the length: the pixel is more often a
+    // mostly dark one, whose lit draw a young history would take at half. (Both switch-on rules at
+    // 64x64: tl_3hard FLIP 1.130x -> 1.002x the input's, relMSE ratio 2.25 -> 2.07; tl_2 and tl_5nosun
+    // relMSE ratio 1.86 -> 1.87 and 2.55 -> 2.56, FLIP 0.98x -> 0.93x and 0.89x -> 0.82x; without the
+    // radius tests their relMSE ratios fell to 1.73 and 2.32.)
+    if (isHardShadow && !isResampledHard && historyWeight > 0.999 && isFollower && isSwitchedOnTile &&
+        kernelRadius < HARD_SHADOW_RESTART_RADIUS && !isPassed && _Sigma_MaxComponent(maximum - minimum) >= 0.5)
+        newLength = 1.0;
     if (!isResampledHard)
         shown = result;
+    // A hard shadow whose sample the light's or its occluder's motion passes (a moving light, a shadow
+    // carried more than its history may hold) restarts its history there: the blend of the history it
+    // did not show is the shadow where it was, and the first frame that no longer passes the sample
+    // showed it (vb_fast: relMSE ratio 0.95, FLIP 1.13x the input's; ml_fasthard FLIP 1.023x). One that
+    // a moving tile passes restarts only where its sample contradicts a history of one frame (length
+    // below 1.5: an arrival's restart) and at least 3 of its neighbours are lit: a shadow that crossed
+    // the pixel in one frame (mo_fasthard: a pixel lit again after one shadowed frame output 0.67 ->
+    // 0.92 over eight frames where the truth is 1; FLIP 1.119x -> 1.064x the input's). Elsewhere the
+    // moving tile's pass keeps blending: one draw of a penumbra is a poor history (restarting all of
+    // them: fast_occluder's relMSE ratio 1.86 -> 1.75 at 64x64, FLIP 0.814x -> 0.859x; 128x128 FLIP
+    // 0.746x -> 0.786x). Such a restart is marked (HISTORY_PASSED_BIT) for the moving-tile test.
+    bool isPassedRestart = false;
+    if (isPassed && !isResampledHard)
+    {
+        bool isCrossed = passLength < 1.5 && LitNeighbourNum(c) >= 3 && _Sigma_MaxComponent(abs(current - passHistory)) > HARD_SHADOW_ARRIVAL;
+        if (isMotionPassed || isCrossed)
+        {
+            result = current;
+            newLength = 1.0;
+            isPassedRestart = !isMotionPassed;
+        }
+    }
     WriteResult(pixel, _Sigma_Signal01(shown), _Sigma_Signal01(result), viewZ, newLength, current, isDeparted, isPassed,
-                isHardShadow && isMovingTile, wasLit, isMean);
+                isHardShadow && isMovingTile, wasLit, isMean, isPassedRestart);
 }
