@@ -130,6 +130,15 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
                 c.uv[1] = std::numeric_limits<float>::infinity();
             if (i == 9)
                 c.uv[0] = 1e30f;
+            // A still view's reprojection: texel centres off by a rounding (or by more than the snap).
+            if (i % 16 == 11)
+            {
+                for (int a = 0; a < 2; a++)
+                {
+                    float offset = (i % 32 == 11 ? 3e-4f : 0.02f) * (u01(rng) < 0.5f ? -1.0f : 1.0f);
+                    c.uv[a] = (std::floor(u01(rng) * kSize) + 0.5f + offset) / kSize;
+                }
+            }
             c.viewZ = 0.5f + 20.0f * u01(rng);
             c.expectedViewZ = c.viewZ * (0.9f + 0.2f * u01(rng));
             c.NoV = u01(rng);
@@ -263,6 +272,7 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
         std::vector<float> expected(actual.size(), 0.0f);
         uint32_t catmullRomCases = 0, partialCases = 0, disoccludedCases = 0, parallaxCases = 0;
         uint32_t wholeCatmullRomCases = 0, mixedCatmullRomCases = 0; // All outer taps valid; some.
+        uint32_t snappedCases = 0;
         for (uint32_t i = 0; i < caseNum; i++)
         {
             const Case& c = cases[i];
@@ -271,6 +281,17 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
             bool isFinite = std::isfinite(c.uv[0]) && std::isfinite(c.uv[1]);
             float uvx = isFinite ? c.uv[0] : -1.0f, uvy = isFinite ? c.uv[1] : -1.0f;
             float px = uvx * kSize - 0.5f, py = uvy * kSize - 0.5f;
+            // Within NRD_FOOTPRINT_SNAP (1/512) of a texel's centre: that texel.
+            bool isSnapped = false;
+            for (float* p : {&px, &py})
+            {
+                float r = std::floor(*p + 0.5f);
+                if (std::fabs(*p - r) < 1.0f / 512.0f)
+                {
+                    isSnapped = isSnapped || *p != r;
+                    *p = r;
+                }
+            }
             float ox = std::floor(px), oy = std::floor(py);
             float fx = px - ox, fy = py - oy;
             int originX = int(std::min(std::max(ox, -65536.0f), 65536.0f));
@@ -368,10 +389,12 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
             partialCases += !allValid && footprintWeight > 0.0f ? 1 : 0;
             disoccludedCases += footprintWeight == 0.0f ? 1 : 0;
             parallaxCases += e[19] > 0.1f ? 1 : 0;
+            snappedCases += isSnapped ? 1 : 0;
         }
         std::printf("reprojection cases: %u Catmull-Rom (%u with every outer tap, %u with some), %u partial, %u disoccluded, "
-                    "%u with parallax\n",
-                    catmullRomCases, wholeCatmullRomCases, mixedCatmullRomCases, partialCases, disoccludedCases, parallaxCases);
+                    "%u with parallax, %u snapped to a texel\n",
+                    catmullRomCases, wholeCatmullRomCases, mixedCatmullRomCases, partialCases, disoccludedCases, parallaxCases,
+                    snappedCases);
         // The random cases reach every branch.
         CHECK(catmullRomCases >= 20);
         CHECK(wholeCatmullRomCases >= 5);
@@ -379,6 +402,7 @@ TEST_CASE("Reprojection helpers equal a CPU evaluation", "[vulkan]")
         CHECK(partialCases >= 20);
         CHECK(disoccludedCases >= 20);
         CHECK(parallaxCases >= 20);
+        CHECK(snappedCases >= 20);
         CHECK(test::CountMismatches(actual, expected, 2e-5f, 2e-4f) == 0);
 
         device.DestroyDescriptorPool(pool);

@@ -29,9 +29,20 @@ struct NrdFootprint
     vec2 f;
 };
 
+// A still view reprojects onto the texel centres only up to the rounding of uv * size (2.7e-5 of a
+// texel at x = 226): a fraction within NRD_FOOTPRINT_SNAP of a texel's centre snaps to it, so that a
+// still pixel's history is its own texel's. Without the snap, the lit texel beside a still hard
+// shadow lent it 3e-5 a frame, which the history accumulated to 1e-4 where the truth and every
+// sample are 0 (SIGMA_SHADOW on venetian_blinds at 256x256). Motion slower than the snap (1/512
+// texel a frame) is not followed; a history of NRD_HISTORY_LENGTH_MAX frames would then lag
+// half a texel at most.
+#define NRD_FOOTPRINT_SNAP (1.0 / 512.0)
+
 NrdFootprint _NRD_Footprint(vec2 uv, vec2 size)
 {
     vec2 p = uv * size - 0.5;
+    vec2 r = floor(p + 0.5);
+    p = mix(p, r, lessThan(abs(p - r), vec2(NRD_FOOTPRINT_SNAP)));
     vec2 o = floor(p);
     NrdFootprint footprint;
     footprint.origin = ivec2(clamp(o, vec2(-65536.0), vec2(65536.0)));

@@ -415,8 +415,9 @@ void main()
 
         // Bilinear footprint with per-tap disocclusion test.
         vec2 footprint = uvPrev * vec2(gResourceSize) - 0.5;
-        origin = ivec2(floor(footprint));
-        f = footprint - floor(footprint);
+        NrdFootprint nearestTexels = _NRD_Footprint(uvPrev, vec2(gResourceSize));
+        origin = nearestTexels.origin;
+        f = nearestTexels.f;
         float bilinear[4] = float[4]((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
         bool isValidUv = gResetHistory == 0u && !isnan(footprint.x) && !isnan(footprint.y) && abs(footprint.x) < 65536.0 &&
                          abs(footprint.y) < 65536.0;

@@ -884,8 +884,9 @@ void main()
         if ((gFlags & TS_FLAG_HISTORY_VALID) != 0u && viewZPrevExpected > NRD_EPS && isOnScreen)
         {
             vec2 position = uvPrev * vec2(gResourceSize) - 0.5;
-            ivec2 origin = ivec2(floor(position));
-            vec2 f = position - vec2(origin);
+            NrdFootprint nearestTexels = _NRD_Footprint(uvPrev, vec2(gResourceSize));
+            ivec2 origin = nearestTexels.origin;
+            vec2 f = nearestTexels.f;
 #if TS_SHADOW_DATA
             // The camera's resampling (the rules of a moving view), not the shadow's shift.
             vec2 fc = fract(position - occluderShift);
