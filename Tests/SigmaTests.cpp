@@ -843,6 +843,45 @@ TEST_CASE("SIGMA leaves no light behind in the umbra of a hard shadow that moves
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+// A still view reprojects each pixel onto its own texel's centre only up to the rounding of the
+// matrices and of uv * size; the bilinear weight that rounding gives a lit neighbour must not reach
+// the history of a hard shadow's umbra (Shaders/Include/Reprojection.glsl, NRD_FOOTPRINT_SNAP).
+TEST_CASE("SIGMA outputs exactly 0 in a still hard shadow's umbra beside its lit side", "[vulkan][sigma]")
+{
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    {
+        Scene scene;
+        scene.width = 200; // Texel coordinates up to 199: larger roundings of uv * size.
+        scene.height = 72;
+        scene.penumbraRadius = 0.3f; // Sub-pixel: a hard shadow.
+        scene.edgeOffset = 37.3f;
+        SigmaRig rig(*context, Method::SIGMA_SHADOW, scene);
+        rig.Create();
+        size_t umbra = 0, lit = 0;
+        for (uint32_t frame = 0; frame < 16; frame++)
+        {
+            FrameData f = MakeFrame(rig.scene, 12500 + frame);
+            std::vector<float> output = rig.Frame(frame, f);
+            size_t notDark = 0, notLit = 0;
+            umbra = lit = 0;
+            for (size_t i = 0; i < output.size(); i += 4)
+            {
+                umbra += f.truth[i] == 0.0f;
+                lit += f.truth[i] == 1.0f;
+                notDark += f.truth[i] == 0.0f && output[i] != 0.0f;
+                notLit += f.truth[i] == 1.0f && output[i] != 1.0f;
+            }
+            INFO("frame " << frame);
+            CHECK(notDark == 0);
+            CHECK(notLit == 0);
+        }
+        CHECK(umbra > 2000);
+        CHECK(lit > 2000);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
 TEST_CASE("SIGMA keeps no history of hard shadows that a moving light carries", "[vulkan][sigma]")
 {
     // A hard shadow edge (penumbra radius 0.3 pixel) that moves 0.25 pixel a frame without motion
