@@ -418,7 +418,7 @@ void main()
         NrdFootprint nearestTexels = _NRD_Footprint(uvPrev, vec2(gResourceSize));
         origin = nearestTexels.origin;
         f = nearestTexels.f;
-        float bilinear[4] = float[4]((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+        vec4 bilinear = _NRD_BilinearWeights(f);
         bool isValidUv = gResetHistory == 0u && !isnan(footprint.x) && !isnan(footprint.y) && abs(footprint.x) < 65536.0 &&
                          abs(footprint.y) < 65536.0;
         // A hard shadow keeps history only where it needs no resampling (still camera and surface): the
