@@ -1339,22 +1339,18 @@ TEST_CASE("TILED_SHADOW outputs the exact samples next to hard shadows that a sl
     CHECK(context->ValidationMessageCount() == 0);
 }
 
-TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a settled lit history", "[vulkan]")
+// Still camera, IN_SHADOWDATA bound, 64x48: diagonal lines of shadow moving every 3 frames keep the
+// tiles filtered, and the arrival grid's pixels take 'gridValue(frame)'; the grid's group A reports a
+// penumbra radius of 0.1 pixel (hard), group B 2 pixels. Returns the last frame's output.
+std::vector<float> RunArrivalGrid(lab::VulkanContext& context, uint32_t frames, float (*gridValue)(uint32_t frame))
 {
-    // Still camera, IN_SHADOWDATA bound: diagonal lines of shadow moving every 3 frames keep the tiles
-    // filtered, and a grid of isolated pixels is lit on frames 0-9 (settled). On frame 10 the grid is
-    // shadowed, with no shadowed neighbour: group A's samples report a penumbra radius of 0.1 pixel
-    // (hard: exact, TS_HARD_ARRIVAL_PENUMBRA) and are output as sampled; group B's report 2 pixels (a
-    // soft shadow's noise is as likely) and keep their lit history.
-    auto context = test::CreateValidatedContext();
-    REQUIRE(context);
     const uint32_t w = 64, h = 48;
-    TiledShadowRig rig(*context);
+    TiledShadowRig rig(context);
     TiledShadowSettings settings = {};
     settings.isShadowDataInput = true;
     rig.Create(w, h, settings);
     std::vector<float> out;
-    for (uint32_t frame = 0; frame < 11; frame++)
+    for (uint32_t frame = 0; frame < frames; frame++)
     {
         Inputs in(w, h);
         for (uint32_t y = 0; y < h; y++)
@@ -1364,13 +1360,25 @@ TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a sett
                 bool isNearGrid = x % 8 >= 3 && x % 8 <= 5 && y % 8 >= 3 && y % 8 <= 5;
                 float v = (x + 2 * y + frame / 3) % 4 == 0 && !isNearGrid ? 0.0f : 1.0f;
                 if (IsArrivalGrid(x, y))
-                    v = frame < 10 ? 1.0f : 0.0f;
+                    v = gridValue(frame);
                 in.visibility[size_t(y) * w + x] = v;
             }
         SetShadowData(in, [](uint32_t x, uint32_t y) { return IsArrivalGrid(x, y) && IsArrivalGroupA(x, y) ? 0.1f : 2.0f; });
         out = rig.Frame(frame, in);
         REQUIRE(CountNonFinite(out) == 0);
     }
+    return out;
+}
+
+TEST_CASE("TILED_SHADOW outputs a hard shadowed sample that arrives under a settled lit history", "[vulkan]")
+{
+    // The grid is lit on frames 0-9 (settled). On frame 10 it is shadowed, with no shadowed neighbour:
+    // group A's samples (hard: exact, TS_HARD_ARRIVAL_PENUMBRA) are output as sampled; group B's (a
+    // soft shadow's noise is as likely) keep their lit history.
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    const uint32_t w = 64, h = 48;
+    std::vector<float> out = RunArrivalGrid(*context, 11, [](uint32_t frame) { return frame < 10 ? 1.0f : 0.0f; });
     ArrivalCount c = CountArrivalGrid(out, w, h);
     INFO("hard samples output 0: " << c.exactA << " of " << c.numA << "; soft samples held at 0.5 or more: " << c.heldB << " of "
                                     << c.numB);
@@ -1390,27 +1398,7 @@ TEST_CASE("TILED_SHADOW outputs a lit sample as sampled after one shadowed sampl
     auto context = test::CreateValidatedContext();
     REQUIRE(context);
     const uint32_t w = 64, h = 48;
-    TiledShadowRig rig(*context);
-    TiledShadowSettings settings = {};
-    settings.isShadowDataInput = true;
-    rig.Create(w, h, settings);
-    std::vector<float> out;
-    for (uint32_t frame = 0; frame < 12; frame++)
-    {
-        Inputs in(w, h);
-        for (uint32_t y = 0; y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-            {
-                bool isNearGrid = x % 8 >= 3 && x % 8 <= 5 && y % 8 >= 3 && y % 8 <= 5;
-                float v = (x + 2 * y + frame / 3) % 4 == 0 && !isNearGrid ? 0.0f : 1.0f;
-                if (IsArrivalGrid(x, y))
-                    v = frame == 10 ? 0.0f : 1.0f;
-                in.visibility[size_t(y) * w + x] = v;
-            }
-        SetShadowData(in, [](uint32_t x, uint32_t y) { return IsArrivalGrid(x, y) && IsArrivalGroupA(x, y) ? 0.1f : 2.0f; });
-        out = rig.Frame(frame, in);
-        REQUIRE(CountNonFinite(out) == 0);
-    }
+    std::vector<float> out = RunArrivalGrid(*context, 12, [](uint32_t frame) { return frame == 10 ? 0.0f : 1.0f; });
     uint32_t num = 0, lit = 0;
     float lowest = 1.0f;
     for (uint32_t y = 0; y < h; y++)
