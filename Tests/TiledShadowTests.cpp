@@ -1504,6 +1504,31 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples that have no history yet",
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+// Lit samples of rows [y0, y1) with 4 to 7 lit neighbours (the lit side of an edge), their 3x3 inside
+// one 8-column band (x % 8 from 1 to 6) where 'isSelected': how many output exactly 1, and how many there are.
+template <class Select>
+std::pair<uint32_t, uint32_t> CountLitEdgeOnes(const Inputs& in, const std::vector<float>& out, uint32_t y0, uint32_t y1,
+                                               Select isSelected)
+{
+    const uint32_t w = in.width;
+    uint32_t ones = 0, count = 0;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 1; x + 1 < w; x++)
+        {
+            if (x % 8 == 0 || x % 8 == 7 || !isSelected(x, y) || in.visibility[size_t(y) * w + x] < 0.5f)
+                continue;
+            int lit = -1;
+            for (int j = -1; j <= 1; j++)
+                for (int i = -1; i <= 1; i++)
+                    lit += in.visibility[size_t(int(y) + j) * w + size_t(int(x) + i)] > 0.5f ? 1 : 0;
+            if (lit < 4 || lit == 8)
+                continue;
+            ones += out[size_t(y) * w + x] == 1.0f ? 1u : 0u;
+            count++;
+        }
+    return std::make_pair(ones, count);
+}
+
 TEST_CASE("TILED_SHADOW outputs hard shadowed samples under camera motion", "[vulkan]")
 {
     // The camera moves 0.3 pixel a frame (motion vectors given) over noise lit one sample in two, with
@@ -1558,22 +1583,7 @@ TEST_CASE("TILED_SHADOW outputs hard shadowed samples under camera motion", "[vu
     // The lit side: lit samples with 4 to 7 lit neighbours, their 3x3 inside one band
     // (TS_MOVING_EXACT_LIT_NEIGHBORS), output exactly 1 next to the contact shadows only.
     auto litSide = [&](bool isContact) {
-        uint32_t ones = 0, count = 0;
-        for (uint32_t y = 1; y + 1 < h; y++)
-            for (uint32_t x = 1; x + 1 < w; x++)
-            {
-                if (x % 8 == 0 || x % 8 == 7 || isContactBand(x, y) != isContact || in.visibility[size_t(y) * w + x] < 0.5f)
-                    continue;
-                int lit = -1;
-                for (int j = -1; j <= 1; j++)
-                    for (int i = -1; i <= 1; i++)
-                        lit += in.visibility[size_t(int(y) + j) * w + size_t(int(x) + i)] > 0.5f ? 1 : 0;
-                if (lit < 4 || lit == 8)
-                    continue;
-                ones += out[size_t(y) * w + x] == 1.0f ? 1u : 0u;
-                count++;
-            }
-        return std::make_pair(ones, count);
+        return CountLitEdgeOnes(in, out, 1, h - 1, [&](uint32_t x, uint32_t y) { return isContactBand(x, y) == isContact; });
     };
     auto contactLit = litSide(true), quarterLit = litSide(false);
     std::printf("TILED_SHADOW moving camera, shadowed samples: penumbra 0.05 pixel %u of %u output 0 (mean %.3f), 0.2 pixel "
@@ -1636,22 +1646,7 @@ TEST_CASE("TILED_SHADOW outputs disoccluded lit samples beside narrow penumbrae 
     }
     // Lit samples with 4 to 7 lit neighbours, their 3x3 inside one band and inside the uncovered rows.
     auto litSide = [&](bool isNarrow) {
-        uint32_t ones = 0, count = 0;
-        for (uint32_t y = 9; y + 1 < 40; y++)
-            for (uint32_t x = 1; x + 1 < w; x++)
-            {
-                if (x % 8 == 0 || x % 8 == 7 || isNarrowBand(x, y) != isNarrow || in.visibility[size_t(y) * w + x] < 0.5f)
-                    continue;
-                int lit = -1;
-                for (int j = -1; j <= 1; j++)
-                    for (int i = -1; i <= 1; i++)
-                        lit += in.visibility[size_t(int(y) + j) * w + size_t(int(x) + i)] > 0.5f ? 1 : 0;
-                if (lit < 4 || lit == 8)
-                    continue;
-                ones += out[size_t(y) * w + x] == 1.0f ? 1u : 0u;
-                count++;
-            }
-        return std::make_pair(ones, count);
+        return CountLitEdgeOnes(in, out, 9, 39, [&](uint32_t x, uint32_t y) { return isNarrowBand(x, y) == isNarrow; });
     };
     auto narrow = litSide(true), wide = litSide(false);
     std::printf("TILED_SHADOW disoccluded lit samples beside penumbrae of 0.15 pixel: %u of %u output 1; of 0.3 pixel: %u of %u\n",
