@@ -1786,6 +1786,88 @@ TEST_CASE("TILED_SHADOW keeps a lamp's thin shadows dark from the frame it is sw
     CHECK(context->ValidationMessageCount() == 0);
 }
 
+TEST_CASE("TILED_SHADOW takes up a lamp's history again when it is switched back on", "[vulkan]")
+{
+    // Still camera, 64x48: a lamp lights the surface but for two bands of penumbra, lit one sample in
+    // two (truth 0.5), for 16 frames; then it is off for 3 frames (every sample 0), then on again. The
+    // right quarter is lit throughout (another light's area in the same signal), so that the tiles next
+    // to it stay filtered: the band at x 8-23 lies in skipped tiles while the lamp is off, the band at
+    // x 36-43 in filtered ones. On the frames off the lamp's part reads 0 as sampled; on the first
+    // frame back both bands' error stays close to what it was before the switch (TS_HOLD_DECAY), where
+    // a history restarted at the switch leaves them several times the error.
+    auto context = test::CreateValidatedContext();
+    REQUIRE(context);
+    const uint32_t w = 64, h = 48, offFrom = 16, onAgain = 19;
+    auto isSkippedBand = [](uint32_t x) { return x >= 8 && x < 24; };
+    auto isFilteredBand = [](uint32_t x) { return x >= 36 && x < 44; };
+    auto isLitArea = [](uint32_t x) { return x >= 48; };
+    auto bandError = [&](const std::vector<float>& out, bool (*isBand)(uint32_t)) {
+        double sum = 0.0;
+        uint32_t count = 0;
+        for (uint32_t y = 2; y < h - 2; y++)
+            for (uint32_t x = 0; x < w; x++)
+                if (isBand(x))
+                {
+                    double e = double(out[size_t(y) * w + x]) - 0.5;
+                    sum += e * e / (0.25 + 0.01);
+                    count++;
+                }
+        return sum / count;
+    };
+    // 'lampOn(frame)': whether the lamp lights the surface on that frame.
+    auto run = [&](bool (*lampOn)(uint32_t), uint32_t lastFrame, std::vector<std::vector<float>>& outputs,
+                   std::vector<std::vector<float>>& inputs) {
+        TiledShadowRig rig(*context);
+        rig.Create(w, h);
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+        for (uint32_t frame = 0; frame <= lastFrame; frame++)
+        {
+            Inputs in(w, h);
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++)
+                {
+                    float v = 1.0f;
+                    if (!isLitArea(x) && !lampOn(frame))
+                        v = 0.0f;
+                    else if (isSkippedBand(x) || isFilteredBand(x))
+                        v = uniform(rng) < 0.5f ? 1.0f : 0.0f;
+                    in.visibility[size_t(y) * w + x] = v;
+                }
+            outputs.push_back(rig.Frame(CameraSettings(frame, 0.0f, 0.0f), in));
+            inputs.push_back(in.visibility);
+            REQUIRE(CountNonFinite(outputs.back()) == 0);
+        }
+    };
+    std::vector<std::vector<float>> toggled, toggledIn, fresh, freshIn;
+    run([](uint32_t frame) { return frame < 16 || frame >= 19; }, onAgain, toggled, toggledIn);
+    // The same first lit frame on a history that saw the lamp off only.
+    run([](uint32_t frame) { return frame >= 19; }, onAgain, fresh, freshIn);
+
+    uint32_t darkOutputs = 0, darkPixels = 0; // The lamp's part of the surface while it is off.
+    for (uint32_t frame = offFrom; frame < onAgain; frame++)
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < 44; x++)
+            {
+                darkOutputs += toggled[frame][size_t(y) * w + x] == 0.0f ? 1u : 0u;
+                darkPixels++;
+            }
+    CHECK(darkOutputs == darkPixels);
+    for (uint32_t frame = 8; frame <= onAgain; frame++) std::printf("DBG %u %.4f %.4f\n", frame, bandError(toggled[frame], isSkippedBand), bandError(toggled[frame], isFilteredBand));
+    double before[2] = {bandError(toggled[offFrom - 1], isSkippedBand), bandError(toggled[offFrom - 1], isFilteredBand)};
+    double back[2] = {bandError(toggled[onAgain], isSkippedBand), bandError(toggled[onAgain], isFilteredBand)};
+    double restarted[2] = {bandError(fresh[onAgain], isSkippedBand), bandError(fresh[onAgain], isFilteredBand)};
+    std::printf("TILED_SHADOW a lamp off for 3 frames: band relMSE before %.4f / %.4f, on the frame back %.4f / %.4f, "
+                "restarted %.4f / %.4f (skipped / filtered tiles while off)\n",
+                before[0], before[1], back[0], back[1], restarted[0], restarted[1]);
+    for (int band = 0; band < 2; band++)
+    {
+        CHECK(back[band] <= 1.5 * before[band]);
+        CHECK(back[band] * 3.0 <= restarted[band]);
+    }
+    CHECK(context->ValidationMessageCount() == 0);
+}
+
 // Still camera, IN_SHADOWDATA bound with every shadowed sample exact (penumbra radius 0.01 pixel):
 // frames 0 to 'lastFrame' of a plane whose sample at (x, y) on a frame is visibility(x, y, frame), under
 // 'skyRows' rows of sky. Returns the last frame's inputs and output.

@@ -45,8 +45,12 @@ uvec2 _TS_TileCount(uvec2 size) { return (size + uvec2(TS_TILE_W - 1, TS_TILE_H 
 // (12-bit unorm) << 12 | accumulated samples * 4 (8 bits) << 24. The raw samples are 0 or 1, so
 // their temporal variance follows from the mean: mean * (1 - mean).
 // The classification hands the moments to the first a-trous pass in one R32_UINT: running local
-// mean (bits 0..7), raw sample (bit 8), temporal mean << 12, samples * 4 << 24.
+// mean (bits 0..7), raw sample (bit 8), TS_MOMENTS_HELD, temporal mean << 12, samples * 4 << 24.
 uint _TS_PackUnorm(float x, float scale) { return uint(clamp(_NRD_Sanitize(x, 0.0), 0.0, 1.0) * scale + 0.5); }
+
+// Moments bit of a pixel whose state keeps its history (TS_HOLD_DECAY in the classification): the
+// first a-trous pass stores the classification's shadow channel as its history, in skipped tiles too.
+#define TS_MOMENTS_HELD 0x200u
 
 uint _TS_PackMoments(float temporalMean, float samples, float localMean, float sample0)
 {

@@ -193,6 +193,9 @@ void main()
     if (!isInside)
         return;
 
+    if (gIsFirstPass != 0u && (moments & TS_MOMENTS_HELD) != 0u)
+        temporal = texelFetch(sampler2D(gIn_Shadow, gNearestClamp), pixel, 0).x;
+
     if (gIsFirstPass != 0u)
     {
         // Sky keeps its viewZ (never matches a surface) and no samples.
