@@ -86,6 +86,14 @@
 #define HARD_SHADOW_MEAN_RADIUS 0.2
 #define HARD_SHADOW_MEAN_LIT_AGAIN 0.35
 #define HARD_SHADOW_MEAN_OBJECT_MOTION 0.05
+// A light switched off (or a large occluder arriving) over a still surface: where the whole tile
+// neighbourhood's input is 0 (a uniform tile) and the pixel's history was above HOLD_MIN_HISTORY, the
+// output is the input, and the history keeps its value, length and flags. When the light returns, the
+// blurred neighbourhood matches the kept history and it goes on where it stopped instead of restarting
+// from the uniform 0 (a lamp switched every few frames); where the surface is lit otherwise, the clamp
+// to the blurred neighbourhood shortens it as it would a moving shadow's. (One frame shorter per frame
+// instead: the lengths of at most gMaxStabilizedFrameNum ran out within the lamps' off-periods.)
+#define HOLD_MIN_HISTORY 0.01
 
 shared float s_ViewZ[SMEM_SIZE][SMEM_SIZE]; // 0 = sky or outside the image
 shared SIGMA_TYPE s_Signal[SMEM_SIZE][SMEM_SIZE];
@@ -233,6 +241,28 @@ void main()
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
+            if (_Sigma_MaxComponent(value) == 0.0 && gResetHistory == 0u) // See HOLD_MIN_HISTORY.
+            {
+                vec2 uv = _NRD_PixelUv(pixel);
+                vec3 X = (gViewToWorld * vec4(_NRD_ViewPosition(uv, z), 1.0)).xyz;
+                vec3 Xprev;
+                vec2 uvPrev = _NRD_PreviousUv(uv, X, texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, Xprev);
+                vec2 shift = uvPrev * vec2(gResourceSize) - (vec2(pixel) + 0.5);
+                if (all(lessThan(abs(shift), vec2(NRD_FOOTPRINT_SNAP)))) // False for NaN.
+                {
+                    uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), pixel, 0).x;
+                    float expectedViewZ = _NRD_PreviousViewZ(Xprev);
+                    SIGMA_TYPE kept = LoadHistory(pixel);
+                    if (abs(uintBitsToFloat(packed & HISTORY_VIEWZ_MASK) - expectedViewZ) < gDisocclusionThreshold * expectedViewZ &&
+                        (packed & HISTORY_LENGTH_MASK) != 0u && _Sigma_MaxComponent(kept) > HOLD_MIN_HISTORY)
+                    {
+                        imageStore(gOut_ShadowTranslucency, pixel, vec4(value));
+                        imageStore(gHistory_Shadow, pixel, vec4(kept));
+                        imageStore(gHistory_ViewZHistoryLength, pixel, uvec4((floatBitsToUint(z) & HISTORY_VIEWZ_MASK) | (packed & ~HISTORY_VIEWZ_MASK)));
+                        return;
+                    }
+                }
+            }
             WriteResult(pixel, value, value, z, gMaxStabilizedFrameNum, value, false, false, false, false, false, false);
         }
         return;
