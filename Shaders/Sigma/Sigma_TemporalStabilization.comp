@@ -241,7 +241,11 @@ void main()
         else // Uniform input: exact. Full length so that neighbours entering a penumbra keep it.
         {
             SIGMA_TYPE value = LoadBlurred(pixel);
-            if (_Sigma_MaxComponent(value) == 0.0 && gResetHistory == 0u) // See HOLD_MIN_HISTORY.
+            // See HOLD_MIN_HISTORY. The pixel's own history first: a steady umbra reads nothing else.
+            SIGMA_TYPE kept = SIGMA_TYPE(0.0);
+            if (_Sigma_MaxComponent(value) == 0.0 && gResetHistory == 0u)
+                kept = LoadHistory(pixel);
+            if (_Sigma_MaxComponent(kept) > HOLD_MIN_HISTORY)
             {
                 vec2 uv = _NRD_PixelUv(pixel);
                 vec3 X = (gViewToWorld * vec4(_NRD_ViewPosition(uv, z), 1.0)).xyz;
@@ -252,9 +256,8 @@ void main()
                 {
                     uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), pixel, 0).x;
                     float expectedViewZ = _NRD_PreviousViewZ(Xprev);
-                    SIGMA_TYPE kept = LoadHistory(pixel);
                     if (abs(uintBitsToFloat(packed & HISTORY_VIEWZ_MASK) - expectedViewZ) < gDisocclusionThreshold * expectedViewZ &&
-                        (packed & HISTORY_LENGTH_MASK) != 0u && _Sigma_MaxComponent(kept) > HOLD_MIN_HISTORY)
+                        (packed & HISTORY_LENGTH_MASK) != 0u)
                     {
                         imageStore(gOut_ShadowTranslucency, pixel, vec4(value));
                         imageStore(gHistory_Shadow, pixel, vec4(kept));

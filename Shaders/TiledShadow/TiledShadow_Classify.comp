@@ -770,7 +770,6 @@ void main()
     float samples = tileClass == TS_TILE_SKY || isSky ? 0.0 : gMaxHistoryFrameNum;
     float previousLocalMean = result; // Running mean of the local mean (the next frame's reference).
     bool isHeld = false; // See TS_HOLD_DECAY.
-    vec4 heldHistory = vec4(0.0);
     float heldSample = 0.0; // The last raw sample before the drop: a settled texel's value stays its last sample.
 
     if (tileClass == TS_TILE_FILTERED && !isSky)
@@ -1039,12 +1038,11 @@ void main()
 #endif
         bool isDisoccluded = footprint < 0.01 || isRestarted || isPartialContradicted;
         // TS_HOLD_DECAY. A held history is lit where the samples are dark: the hold goes on whatever
-        // the restart tests say.
-        heldHistory = footprint >= 0.01 ? history / footprint : vec4(0.0);
+        // the restart tests say (the rules below see the kept history; the end replaces their result).
+        vec4 reprojected = footprint >= 0.01 ? history / footprint : vec4(0.0);
         isHeld = footprint >= 0.01 && !isMoving && sample0 == 0.0 && (near & NEAR_3X3) == 0u &&
-                 heldHistory.w - localMean > TS_GLOBAL_CHANGE && heldHistory.z - TS_HOLD_DECAY >= TS_HOLD_MIN_SAMPLES;
-        heldSample = float((previousBits >> uint(4 * nearestK.y + nearestK.x)) & 1u);
-        history = isDisoccluded ? vec4(sample0, 0.0, 0.0, localMean) : history / footprint;
+                 reprojected.w - localMean > TS_GLOBAL_CHANGE && reprojected.z - TS_HOLD_DECAY >= TS_HOLD_MIN_SAMPLES;
+        history = isDisoccluded && !isHeld ? vec4(sample0, 0.0, 0.0, localMean) : reprojected;
 
         // History clamped to the neighbourhood (moving shadows have no motion vectors), where the
         // neighbourhood changed: its mean against its running mean at the same surface point, in
@@ -1470,32 +1468,42 @@ void main()
             AreShadowedNeighborsExact(near, pixel, TS_EXACT_EDGE_PENUMBRA, Xv, Nv))
             variance = 0.0;
 #endif
+        if (isHeld)
+        {
+            result = history.x;
+            temporalMean = history.y;
+            samples = history.z - TS_HOLD_DECAY;
+            previousLocalMean = history.w;
+            variance = TS_OUTPUT_SAMPLE - sample0;
+            heldSample = float((previousBits >> uint(nearest)) & 1u);
+        }
     }
 
     else if (tileClass == TS_TILE_SHADOWED && !isSky && (gFlags & TS_FLAG_HISTORY_VALID) != 0u)
     {
         // A uniformly shadowed neighbourhood (local mean 0) over the same surface point as on the
-        // last frame, in a still view: TS_HOLD_DECAY.
-        vec2 uv = _NRD_PixelUv(pixel);
-        vec3 mv = _NRD_Sanitize(texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, 0.0);
-        vec3 previous = PreviousUv(uv, _NRD_ViewPosition(uv, viewZ), mv);
-        vec2 shift = previous.xy * vec2(gResourceSize) - (vec2(pixel) + 0.5);
-        if (all(lessThan(abs(shift), vec2(NRD_FOOTPRINT_SNAP)))) // False for NaN.
+        // last frame, in a still view: TS_HOLD_DECAY. The pixel's own state first: a steady umbra
+        // (its running local mean 0) reads nothing else.
+        uvec2 state = texelFetch(usampler2D(gPrev_State, gNearestClamp), pixel, 0).xy;
+        vec4 kept = vec4(_TS_UnpackHistory(state.y), _TS_UnpackLocalMean(state.x));
+        if (kept.w > TS_GLOBAL_CHANGE && kept.z - TS_HOLD_DECAY >= TS_HOLD_MIN_SAMPLES)
         {
-            uvec2 state = texelFetch(usampler2D(gPrev_State, gNearestClamp), pixel, 0).xy;
-            heldHistory = vec4(_TS_UnpackHistory(state.y), _TS_UnpackLocalMean(state.x));
-            heldSample = float(_TS_UnpackSample(state.x));
-            isHeld = abs(_TS_UnpackViewZ(state.x) - previous.z) < gDisocclusionThreshold * previous.z &&
-                     heldHistory.w > TS_GLOBAL_CHANGE && heldHistory.z - TS_HOLD_DECAY >= TS_HOLD_MIN_SAMPLES;
+            vec2 uv = _NRD_PixelUv(pixel);
+            vec3 mv = _NRD_Sanitize(texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, 0.0);
+            vec3 previous = PreviousUv(uv, _NRD_ViewPosition(uv, viewZ), mv);
+            vec2 shift = previous.xy * vec2(gResourceSize) - (vec2(pixel) + 0.5);
+            isHeld = all(lessThan(abs(shift), vec2(NRD_FOOTPRINT_SNAP))) && // False for NaN.
+                     abs(_TS_UnpackViewZ(state.x) - previous.z) < gDisocclusionThreshold * previous.z;
+            if (isHeld)
+            {
+                result = kept.x;
+                temporalMean = kept.y;
+                samples = kept.z - TS_HOLD_DECAY;
+                previousLocalMean = kept.w;
+                variance = TS_OUTPUT_SAMPLE - sample0;
+                heldSample = float(_TS_UnpackSample(state.x));
+            }
         }
-    }
-    if (isHeld)
-    {
-        result = heldHistory.x;
-        temporalMean = heldHistory.y;
-        samples = heldHistory.z - TS_HOLD_DECAY;
-        previousLocalMean = heldHistory.w;
-        variance = TS_OUTPUT_SAMPLE - sample0;
     }
 
     imageStore(gOut_Shadow, pixel, vec4(result, variance, 0.0, 0.0));
