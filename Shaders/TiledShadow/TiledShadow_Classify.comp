@@ -1478,7 +1478,6 @@ void main()
             heldSample = float((previousBits >> uint(nearest)) & 1u);
         }
     }
-
     else if (tileClass == TS_TILE_SHADOWED && !isSky && (gFlags & TS_FLAG_HISTORY_VALID) != 0u)
     {
         // A uniformly shadowed neighbourhood (local mean 0) over the same surface point as on the
