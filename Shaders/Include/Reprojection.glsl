@@ -38,6 +38,13 @@ struct NrdFootprint
 // half a texel at most.
 #define NRD_FOOTPRINT_SNAP (1.0 / 512.0)
 
+// Whether 'uvPrev' is the centre of 'pixel' within NRD_FOOTPRINT_SNAP: a still view's pixel, whose
+// footprint is its own texel (false for NaN).
+bool _NRD_IsOwnTexel(vec2 uvPrev, ivec2 pixel, vec2 size)
+{
+    return all(lessThan(abs(uvPrev * size - (vec2(pixel) + 0.5)), vec2(NRD_FOOTPRINT_SNAP)));
+}
+
 NrdFootprint _NRD_Footprint(vec2 uv, vec2 size)
 {
     vec2 p = uv * size - 0.5;

@@ -251,8 +251,7 @@ void main()
                 vec3 X = (gViewToWorld * vec4(_NRD_ViewPosition(uv, z), 1.0)).xyz;
                 vec3 Xprev;
                 vec2 uvPrev = _NRD_PreviousUv(uv, X, texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, Xprev);
-                vec2 shift = uvPrev * vec2(gResourceSize) - (vec2(pixel) + 0.5);
-                if (all(lessThan(abs(shift), vec2(NRD_FOOTPRINT_SNAP)))) // False for NaN.
+                if (_NRD_IsOwnTexel(uvPrev, pixel, vec2(gResourceSize)))
                 {
                     uint packed = texelFetch(usampler2D(gPrev_ViewZHistoryLength, gNearestClamp), pixel, 0).x;
                     float expectedViewZ = _NRD_PreviousViewZ(Xprev);

@@ -1490,8 +1490,7 @@ void main()
             vec2 uv = _NRD_PixelUv(pixel);
             vec3 mv = _NRD_Sanitize(texelFetch(sampler2D(gIn_Mv, gNearestClamp), pixel, 0).xyz, 0.0);
             vec3 previous = PreviousUv(uv, _NRD_ViewPosition(uv, viewZ), mv);
-            vec2 shift = previous.xy * vec2(gResourceSize) - (vec2(pixel) + 0.5);
-            isHeld = all(lessThan(abs(shift), vec2(NRD_FOOTPRINT_SNAP))) && // False for NaN.
+            isHeld = _NRD_IsOwnTexel(previous.xy, pixel, vec2(gResourceSize)) &&
                      abs(_TS_UnpackViewZ(state.x) - previous.z) < gDisocclusionThreshold * previous.z;
             if (isHeld)
             {
