@@ -76,15 +76,14 @@
 #define HARD_SHADOW_RESAMPLED_BLEND 0.7
 // Under resampling a hard shadow's history is the running mean of its samples over at most
 // HARD_SHADOW_MEAN_FRAMES frames; a lit sample under a mean below HARD_SHADOW_MEAN_DARK takes
-// HARD_SHADOW_MEAN_BLEND of the mean, weighted by the penumbra's kernel radius (none up to
-// HARD_SHADOW_MEAN_EXACT_RADIUS pixel, all from HARD_SHADOW_MEAN_RADIUS), unless the previous frame's sample there was lit too and the mean
+// HARD_SHADOW_MEAN_BLEND of the mean, weighted by the penumbra's kernel radius (all from
+// HARD_SHADOW_MEAN_RADIUS pixel), unless the previous frame's sample there was lit too and the mean
 // is above HARD_SHADOW_MEAN_LIT_AGAIN, or the surface moves on screen by more than
 // HARD_SHADOW_MEAN_OBJECT_MOTION pixel beyond the camera's motion (see main).
 #define HARD_SHADOW_MEAN_FRAMES 16.0
 #define HARD_SHADOW_MEAN_DARK 0.5
 #define HARD_SHADOW_MEAN_BLEND 0.75
 #define HARD_SHADOW_MEAN_RADIUS 0.2
-#define HARD_SHADOW_MEAN_EXACT_RADIUS 0.05
 #define HARD_SHADOW_MEAN_LIT_AGAIN 0.35
 #define HARD_SHADOW_MEAN_OBJECT_MOTION 0.05
 // A light switched off (or a large occluder arriving) over a still surface: where the whole tile
@@ -600,13 +599,13 @@ void main()
         // times the same error on a lit one).
         // - A lit sample under a mean below HARD_SHADOW_MEAN_DARK takes HARD_SHADOW_MEAN_BLEND of the
         //   mean (all of it darkens the penumbra's local average, whose dark samples stay 0, and FLIP
-        //   rises), weighted by the penumbra's kernel radius (none up to HARD_SHADOW_MEAN_EXACT_RADIUS:
-        //   a lit sample under dark history there is more often a geometric detail that the previous
-        //   frame's pixels missed, or a sharp edge that the motion carried over the pixel, than a
-        //   penumbra; a hard sun's edges under a fast orbit took 0.11 of the mean from 0 on, for
-        //   truth 1: FLIP 1.009x the input's at 64x64, 1.000x with this, relMSE ratios of the camera
-        //   scenes 1-3% lower; all from HARD_SHADOW_MEAN_RADIUS), and all of it on the dark half of the
-        //   light's terminator (less than half of the light's disk above the surface's tangent plane:
+        //   rises), weighted by the penumbra's kernel radius (none at 0: a lit sample under dark
+        //   history there is more often a geometric detail that the previous frame's pixels missed
+        //   than a penumbra; all from HARD_SHADOW_MEAN_RADIUS. None up to 0.05 pixel instead took the
+        //   hard sun's fast orbits to the input's FLIP, from 1.009x, but camera_rotation over 10
+        //   frames at 64x64 above the input's FLIP and temporal instability, 1.002x and 1.003x), and
+        //   all of it on the dark half of the light's terminator (less than half of the light's disk
+        //   above the surface's tangent plane:
         //   a sphere's self-shadow edge, whose visibility is fractional while the penumbra estimate
         //   of its self-occlusion, a hit next to the sample, is 0; camera_translation at 256x256:
         //   relMSE ratio 1.89 -> 2.40, FLIP lower). Not where the previous frame's sample
@@ -636,7 +635,7 @@ void main()
                 float darkMean = _Sigma_MaxComponent(mean);
                 if (darkMean < HARD_SHADOW_MEAN_DARK && !(wasLitThere && darkMean > HARD_SHADOW_MEAN_LIT_AGAIN) && !isObjectMoving)
                 {
-                    float blend = HARD_SHADOW_MEAN_BLEND * (isDarkTerminator ? 1.0 : clamp((kernelRadius - HARD_SHADOW_MEAN_EXACT_RADIUS) / (HARD_SHADOW_MEAN_RADIUS - HARD_SHADOW_MEAN_EXACT_RADIUS), 0.0, 1.0));
+                    float blend = HARD_SHADOW_MEAN_BLEND * (isDarkTerminator ? 1.0 : clamp(kernelRadius / HARD_SHADOW_MEAN_RADIUS, 0.0, 1.0));
                     shown = mix(current, mean, blend);
                 }
                 if (tapLit < HARD_SHADOW_RESAMPLED_LIT)
