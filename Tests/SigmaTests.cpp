@@ -1220,7 +1220,7 @@ TEST_CASE("SIGMA outputs a lit sample of a mostly dark sub-pixel penumbra under 
 
 TEST_CASE("SIGMA keeps the lit side of a sharp edge exact once a moving camera stops", "[vulkan][sigma]")
 {
-    // A sharp shadow edge (penumbra 0.1 pixel: its samples are exact) under a camera that moves 1.3
+    // A sharp shadow edge (penumbra 0.1 pixel wide: its samples are exact) under a camera that moves 1.3
     // pixels a frame for 8 frames (matrices only) and then stays. Under motion the hard-shadow history is
     // the running mean of the samples, greyed near the edge by resampling across it; once the view is
     // still, that mean must not be blended into the exact samples beside the edge.
@@ -1234,7 +1234,7 @@ TEST_CASE("SIGMA keeps the lit side of a sharp edge exact once a moving camera s
     rig.Create();
     const float speed = 1.3f;
     const uint32_t movingFrames = 8;
-    size_t exactNum = 0, inexactLit = 0, inexactDark = 0, movingLitNum = 0, movingInexactLit = 0;
+    size_t exactNum = 0, inexactLit = 0, inexactDark = 0;
     float worstLit = 1.0f;
     for (uint32_t frame = 0; frame < movingFrames + 5; frame++)
     {
@@ -1247,11 +1247,7 @@ TEST_CASE("SIGMA keeps the lit side of a sharp edge exact once a moving camera s
         std::vector<float> output = rig.Frame(settings, f);
         REQUIRE(AllFinite(output));
         if (frame <= movingFrames)
-        {
-            for (size_t i = 0; i < output.size(); i += 4)
-                movingLitNum += f.truth[i] == 1.0f ? 1u : 0u, movingInexactLit += f.truth[i] == 1.0f && output[i] != 1.0f ? 1u : 0u;
             continue;
-        }
         for (size_t i = 0; i < output.size(); i += 4)
         {
             float truth = f.truth[i];
@@ -1266,8 +1262,8 @@ TEST_CASE("SIGMA keeps the lit side of a sharp edge exact once a moving camera s
             inexactDark += truth == 0.0f && output[i] != 0.0f;
         }
     }
-    std::printf("SIGMA after a moving camera stops: %zu of %zu exact pixels lit are inexact (lowest %.3f), %zu dark; "
-                "while it moves %zu of %zu lit\n", inexactLit, exactNum, worstLit, inexactDark, movingInexactLit, movingLitNum);
+    std::printf("SIGMA after a moving camera stops: %zu of %zu exact pixels lit are inexact (lowest %.3f), %zu dark\n", inexactLit,
+                exactNum, worstLit, inexactDark);
     CHECK(exactNum > 4 * 64 * 60);
     CHECK(inexactLit == 0);
     CHECK(inexactDark == 0);
